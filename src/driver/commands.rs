@@ -1,0 +1,26 @@
+//! One function per CLI command. Each is filled in by the issue that builds its stage.
+
+use std::path::Path;
+
+use super::{CompileOptions, GlobalOptions, EXIT_INPUT};
+
+fn not_yet(what: &str) -> u8 {
+    eprintln!("error: `declutter {what}` is not built yet");
+    EXIT_INPUT
+}
+
+pub fn check(_file: &Path, _g: &GlobalOptions) -> u8 {
+    not_yet("check")
+}
+pub fn resolve(_file: &Path, _g: &GlobalOptions) -> u8 {
+    not_yet("resolve")
+}
+pub fn compile(_file: &Path, _g: &GlobalOptions, _o: &CompileOptions) -> u8 {
+    not_yet("compile")
+}
+pub fn verify(_file: &Path, _schedule: &Path, _g: &GlobalOptions) -> u8 {
+    not_yet("verify")
+}
+pub fn graph(_file: &Path, _g: &GlobalOptions, _seed: Option<u64>) -> u8 {
+    not_yet("graph")
+}

@@ -1,0 +1,49 @@
+//! The driver runs the pipeline for each CLI command and turns errors into reports.
+//! Exit codes: 0 success, 1 input error (or verification failure), 2 infeasible.
+
+use std::path::PathBuf;
+
+mod commands;
+
+pub use commands::{check, compile, graph, resolve, verify};
+
+/// Output format of a schedule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    Yaml,
+    Json,
+}
+
+/// Options every command shares.
+#[derive(Clone, Debug, Default)]
+pub struct GlobalOptions {
+    /// Directories searched for `package://` URIs, after the URDF's own folder and its ancestors.
+    pub package_path: Vec<PathBuf>,
+    pub color: bool,
+}
+
+impl GlobalOptions {
+    /// Adds `DECLUTTER_PACKAGE_PATH` (colon-separated) after the command-line directories.
+    pub fn from_env(mut package_path: Vec<PathBuf>, no_color: bool) -> GlobalOptions {
+        if let Some(v) = std::env::var_os("DECLUTTER_PACKAGE_PATH") {
+            package_path.extend(std::env::split_paths(&v).filter(|p| !p.as_os_str().is_empty()));
+        }
+        let color =
+            !no_color && std::env::var_os("NO_COLOR").is_none() && std::io::IsTerminal::is_terminal(&std::io::stderr());
+        GlobalOptions { package_path, color }
+    }
+}
+
+/// Options of `declutter compile`.
+#[derive(Clone, Debug)]
+pub struct CompileOptions {
+    pub seed: Option<u64>,
+    pub objective: Option<String>,
+    pub format: Format,
+    pub out: Option<PathBuf>,
+    pub stats: bool,
+}
+
+pub const EXIT_OK: u8 = 0;
+pub const EXIT_INPUT: u8 = 1;
+pub const EXIT_INFEASIBLE: u8 = 2;
