@@ -5,6 +5,7 @@
 //! The modules are the pipeline, in order; a lower one never imports a higher one.
 
 pub mod diag;
+pub mod plan;
 pub mod resolve;
 pub mod world;
 
