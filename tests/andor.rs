@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{scenario, Table};
+use common::{cycle_table, example_3_table, scenario, Table};
 use declutter::diag::{render_one, RenderOptions};
 use declutter::plan::andor::{solve, Cause, Flag, Solution};
 use declutter::plan::Unreachable;
@@ -98,20 +98,6 @@ fn example_2_cans() {
     // Figure 8b: O3 is never analysed, O2 is free for both.
     assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:B", "o2 r1:F r2:F <-o0/r1", "o3 r1:∅ r2:∅ <-o0/r2"]);
     assert_eq!(actions(&scn, &sol), ["1 r2 o2 after []", "2 r1 o0 after [1]"]);
-}
-
-pub fn example_3_table() -> Table {
-    Table::new()
-        .path(1, 0, &[4, 5])
-        .path(2, 0, &[5, 1])
-        .null(1, 5, Unreachable::NoGraspSolution)
-        .path(2, 5, &[2])
-        .path(1, 4, &[])
-        .path(2, 4, &[])
-        .path(1, 1, &[3])
-        .path(2, 1, &[])
-        .null(1, 2, Unreachable::NoGraspSolution)
-        .path(2, 2, &[])
 }
 
 #[test]
@@ -235,18 +221,6 @@ fn configuration_target() {
     assert_eq!(nodes(&scn, &sol), ["target r2:B", "o1 r1:F r2:F <-target/r2"]);
     assert_eq!(t.asked(), [(2, None), (1, o(1)), (2, o(1))]);
     assert_eq!(actions(&scn, &sol), ["1 r1 o1 after []", "2 r2 target after [1]"]);
-}
-
-pub fn cycle_table() -> Table {
-    // The can needs O1 out of the way; O1 can only be taken by R1 once O2 is gone, and
-    // O2 only once O1 is gone.
-    Table::new()
-        .path(1, 0, &[1])
-        .path(2, 0, &[1])
-        .path(1, 1, &[2])
-        .null(2, 1, Unreachable::NoGraspSolution)
-        .path(1, 2, &[1])
-        .path(2, 2, &[1])
 }
 
 #[test]

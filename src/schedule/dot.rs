@@ -60,6 +60,8 @@ pub fn to_dot(scn: &Scenario, sol: &Solution) -> String {
     let mut out = String::new();
     let title = super::scenario_name(scn);
     let _ = writeln!(out, "digraph {} {{", quoted(&title));
+    out.push_str("  // Flags per robot: ∅ not asked, N null, F free, B blocked, D discarded.\n");
+    out.push_str("  // Edges by robot; one robot's edges through a dot are AND; robots are OR. Bold: chosen.\n");
     out.push_str("  graph [rankdir=TB, fontname=\"Helvetica\"];\n");
     out.push_str("  node [shape=plaintext, fontname=\"Helvetica\"];\n");
     out.push_str("  edge [fontname=\"Helvetica\", fontsize=10];\n");

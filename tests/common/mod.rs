@@ -157,3 +157,48 @@ impl Oracle for Table {
         Answer { result, stats }
     }
 }
+
+/// Figure 2, with O5 free for both robots (Figure 3's solution).
+pub fn figure_2_table() -> Table {
+    Table::new()
+        .path(1, 0, &[1])
+        .path(2, 0, &[2])
+        .path(1, 1, &[3, 4])
+        .path(2, 1, &[5])
+        .path(1, 2, &[6])
+        .null(2, 2, Unreachable::NoGraspSolution)
+        .path(1, 5, &[])
+        .path(2, 5, &[])
+}
+
+/// Example 1 (Figure 6c): the lid blocks the can for both robots.
+pub fn example_1_table() -> Table {
+    Table::new().path(1, 0, &[1]).path(2, 0, &[1]).path(1, 1, &[]).path(2, 1, &[])
+}
+
+/// Example 3 (Figure 10b).
+pub fn example_3_table() -> Table {
+    Table::new()
+        .path(1, 0, &[4, 5])
+        .path(2, 0, &[5, 1])
+        .null(1, 5, Unreachable::NoGraspSolution)
+        .path(2, 5, &[2])
+        .path(1, 4, &[])
+        .path(2, 4, &[])
+        .path(1, 1, &[3])
+        .path(2, 1, &[])
+        .null(1, 2, Unreachable::NoGraspSolution)
+        .path(2, 2, &[])
+}
+
+pub fn cycle_table() -> Table {
+    // The can needs O1 out of the way; O1 can only be taken by R1 once O2 is gone, and
+    // O2 only once O1 is gone.
+    Table::new()
+        .path(1, 0, &[1])
+        .path(2, 0, &[1])
+        .path(1, 1, &[2])
+        .null(2, 1, Unreachable::NoGraspSolution)
+        .path(1, 2, &[1])
+        .path(2, 2, &[1])
+}
