@@ -7,6 +7,8 @@
 
 use serde::Serialize;
 
+pub mod andor;
+
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{Config, JointPath, ObjectSet};
 
@@ -75,4 +77,11 @@ pub struct Answer {
 /// the graph logic implement it with tables.
 pub trait Oracle {
     fn find_path(&self, robot: RobotId, goal: &Goal) -> Answer;
+
+    /// Answers several queries, in order. The AND/OR graph asks all robots about one
+    /// node at once through this, so a planner may answer them in parallel; the
+    /// answers must not depend on how they are scheduled.
+    fn find_paths(&self, queries: &[(RobotId, Goal)]) -> Vec<Answer> {
+        queries.iter().map(|(robot, goal)| self.find_path(*robot, goal)).collect()
+    }
 }

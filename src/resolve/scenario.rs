@@ -159,7 +159,7 @@ pub enum Target {
     Config { robot: RobotId, q: JointValues, span: Span },
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
     /// The path whose union of labels is smallest (default).

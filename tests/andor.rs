@@ -1,0 +1,300 @@
+//! The AND/OR graph on hand-built findPath answers: the paper's Figure 2 and the
+//! graphs of its three examples (Figures 6c, 8b, 10b), Null and Discarded flags,
+//! infeasible cycles and objects, and more than two robots.
+
+mod common;
+
+use common::{cycle_table, example_3_table, scenario, Table};
+use declutter::diag::{render_one, RenderOptions};
+use declutter::plan::andor::{solve, Cause, Flag, Solution};
+use declutter::plan::Unreachable;
+use declutter::resolve::Scenario;
+
+/// Each node as `object r1:F r2:B`, in creation order, with `<-parent/robot`.
+fn nodes(scn: &Scenario, sol: &Solution) -> Vec<String> {
+    let g = &sol.graph;
+    g.nodes()
+        .map(|n| {
+            let node = g.node(n);
+            let flags: Vec<String> =
+                node.flags.iter().map(|(r, f)| format!("{}:{}", scn.robot(*r).name, f.symbol())).collect();
+            let parent = match node.parent {
+                Some((p, r)) => format!(" <-{}/{}", g.node(p).item.name(scn), scn.robot(r).name),
+                None => String::new(),
+            };
+            format!("{} {}{parent}", node.item.name(scn), flags.join(" "))
+        })
+        .collect()
+}
+
+/// Each action as `id robot object after [ids]`, 1-based ids.
+fn actions(scn: &Scenario, sol: &Solution) -> Vec<String> {
+    let plan = sol.outcome.as_ref().expect("a plan");
+    plan.actions
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let after: Vec<String> = a.after.iter().map(|j| (j + 1).to_string()).collect();
+            format!("{} {} {} after [{}]", i + 1, scn.robot(a.robot).name, a.item.name(scn), after.join(","))
+        })
+        .collect()
+}
+
+fn o(k: u32) -> Option<u32> {
+    Some(k)
+}
+
+#[test]
+fn figure_2_and_3() {
+    let (scn, _) = scenario(2, 7, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1])
+        .path(2, 0, &[2])
+        .path(1, 1, &[3, 4])
+        .path(2, 1, &[5])
+        .path(1, 2, &[6])
+        .null(2, 2, Unreachable::NoGraspSolution)
+        .path(1, 5, &[])
+        .path(2, 5, &[]);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:B",
+            "o1 r1:B r2:B <-o0/r1",
+            "o2 r1:B r2:N <-o0/r2",
+            "o3 r1:∅ r2:∅ <-o1/r1",
+            "o4 r1:∅ r2:∅ <-o1/r1",
+            "o5 r1:F r2:F <-o1/r2",
+            "o6 r1:∅ r2:∅ <-o2/r1",
+        ]
+    );
+    // Costs: objects to remove on the branch, AND siblings included.
+    let costs: Vec<usize> = sol.graph.nodes().map(|n| sol.graph.node(n).cost).collect();
+    assert_eq!(costs, [0, 1, 1, 3, 3, 2, 2]);
+    // Lazy: o3, o4, o6 are never asked; o5 (cost 2, created before o6) is.
+    assert_eq!(t.asked(), [(1, o(0)), (2, o(0)), (1, o(1)), (2, o(1)), (1, o(2)), (2, o(2)), (1, o(5)), (2, o(5))]);
+    // Figure 3: O5 with R1, O1 with R2, finally O0 with R1.
+    assert_eq!(actions(&scn, &sol), ["1 r1 o5 after []", "2 r2 o1 after [1]", "3 r1 o0 after [2]"]);
+}
+
+#[test]
+fn example_1_box_lid() {
+    let (scn, _) = scenario(2, 2, Some(0), 0);
+    let t = Table::new().path(1, 0, &[1]).path(2, 0, &[1]).path(1, 1, &[]).path(2, 1, &[]);
+    let sol = solve(&scn, &t);
+    // Figure 6c: the lid is a child for both robots; the first lid node frees the can.
+    assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:B", "o1 r1:F r2:F <-o0/r1", "o1 r1:∅ r2:∅ <-o0/r2"]);
+    assert_eq!(t.asked().len(), 4);
+    // As in the paper: R2 removes the lid, R1 grasps the can.
+    assert_eq!(actions(&scn, &sol), ["1 r2 o1 after []", "2 r1 o0 after [1]"]);
+}
+
+#[test]
+fn example_2_cans() {
+    let (scn, _) = scenario(2, 4, Some(0), 0);
+    let t = Table::new().path(1, 0, &[2]).path(2, 0, &[3]).path(1, 2, &[]).path(2, 2, &[]);
+    let sol = solve(&scn, &t);
+    // Figure 8b: O3 is never analysed, O2 is free for both.
+    assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:B", "o2 r1:F r2:F <-o0/r1", "o3 r1:∅ r2:∅ <-o0/r2"]);
+    assert_eq!(actions(&scn, &sol), ["1 r2 o2 after []", "2 r1 o0 after [1]"]);
+}
+
+#[test]
+fn example_3_six_cans() {
+    let (scn, _) = scenario(2, 6, Some(0), 0);
+    let t = example_3_table();
+    let sol = solve(&scn, &t);
+    // Figure 10b: O5 on both branches (Null for R1), O1 Free for R2 so not expanded.
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:B",
+            "o4 r1:F r2:F <-o0/r1",
+            "o5 r1:N r2:B <-o0/r1",
+            "o1 r1:B r2:F <-o0/r2",
+            "o5 r1:N r2:B <-o0/r2",
+            "o2 r1:N r2:F <-o5/r2",
+            "o2 r1:∅ r2:∅ <-o5/r2",
+        ]
+    );
+    // The second O5 reuses the memoised answers: ten queries, none repeated.
+    assert_eq!(
+        t.asked(),
+        [(1, o(0)), (2, o(0)), (1, o(4)), (2, o(4)), (1, o(5)), (2, o(5)), (1, o(1)), (2, o(1)), (1, o(2)), (2, o(2))]
+    );
+    // Figure 11: R2 removes O2, R1 removes O4, R2 removes O5, R1 grasps O0.
+    assert_eq!(
+        actions(&scn, &sol),
+        ["1 r2 o2 after []", "2 r1 o4 after []", "3 r2 o5 after [1]", "4 r1 o0 after [2,3]"]
+    );
+}
+
+#[test]
+fn discarded_branch_is_bypassed_by_the_other_robot() {
+    // O2 by R1 needs O1 out first, but O1 is O2's parent: Discarded. R2 can take O2
+    // once O3 is gone.
+    let (scn, _) = scenario(2, 4, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1])
+        .null(2, 0, Unreachable::NoPath)
+        .path(1, 1, &[2])
+        .path(2, 1, &[2])
+        .path(1, 2, &[1])
+        .path(2, 2, &[3])
+        .path(1, 3, &[])
+        .null(2, 3, Unreachable::NoPath);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:N",
+            "o1 r1:B r2:B <-o0/r1",
+            "o2 r1:D r2:B <-o1/r1",
+            "o2 r1:D r2:B <-o1/r2",
+            "o3 r1:F r2:N <-o2/r2",
+            "o3 r1:∅ r2:∅ <-o2/r2",
+        ]
+    );
+    // Four actions either way; R2 takes O1 so each robot does two.
+    assert_eq!(
+        actions(&scn, &sol),
+        ["1 r1 o3 after []", "2 r2 o2 after [1]", "3 r2 o1 after [2]", "4 r1 o0 after [3]"]
+    );
+}
+
+#[test]
+fn shared_blocker_is_removed_once() {
+    let (scn, _) = scenario(2, 4, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1, 2])
+        .null(2, 0, Unreachable::NoGraspSolution)
+        .path(1, 1, &[3])
+        .null(2, 1, Unreachable::NoGraspSolution)
+        .path(1, 2, &[3])
+        .null(2, 2, Unreachable::NoGraspSolution)
+        .path(1, 3, &[])
+        .path(2, 3, &[]);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        actions(&scn, &sol),
+        ["1 r2 o3 after []", "2 r1 o1 after [1]", "3 r1 o2 after [1]", "4 r1 o0 after [2,3]"]
+    );
+    assert_eq!(sol.outcome.as_ref().unwrap().removed().len(), 4);
+}
+
+#[test]
+fn three_robots() {
+    let (scn, _) = scenario(3, 4, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1, 2])
+        .path(2, 0, &[2, 3])
+        .null(3, 0, Unreachable::NoGraspSolution)
+        .path(1, 1, &[])
+        .path(2, 1, &[])
+        .path(3, 1, &[])
+        .path(1, 2, &[3])
+        .null(2, 2, Unreachable::NoPath)
+        .path(3, 2, &[]);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:B r3:N",
+            "o1 r1:F r2:F r3:F <-o0/r1",
+            "o2 r1:B r2:N r3:F <-o0/r1",
+            "o2 r1:∅ r2:∅ r3:∅ <-o0/r2",
+            "o3 r1:∅ r2:∅ r3:∅ <-o0/r2",
+        ]
+    );
+    assert_eq!(t.asked().len(), 9);
+    // One action per robot: R2 takes O1, R3 takes O2 (free for it), R1 the target.
+    assert_eq!(actions(&scn, &sol), ["1 r2 o1 after []", "2 r3 o2 after []", "3 r1 o0 after [1,2]"]);
+}
+
+#[test]
+fn configuration_target() {
+    let (scn, _) = scenario(2, 2, None, 1);
+    let t = Table::new().reach(2, &[1]).path(1, 1, &[]).path(2, 1, &[]);
+    let sol = solve(&scn, &t);
+    // The pseudo-node has R2's flag only; R1 is never asked to reach it.
+    assert_eq!(nodes(&scn, &sol), ["target r2:B", "o1 r1:F r2:F <-target/r2"]);
+    assert_eq!(t.asked(), [(2, None), (1, o(1)), (2, o(1))]);
+    assert_eq!(actions(&scn, &sol), ["1 r1 o1 after []", "2 r2 target after [1]"]);
+}
+
+#[test]
+fn cycle_is_infeasible() {
+    let (scn, sources) = scenario(2, 3, Some(0), 0);
+    let t = cycle_table();
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:B",
+            "o1 r1:B r2:N <-o0/r1",
+            "o1 r1:B r2:N <-o0/r2",
+            "o2 r1:D r2:D <-o1/r1",
+            "o2 r1:D r2:D <-o1/r1",
+        ]
+    );
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(err.causes.len(), 1);
+    let Cause::Cycle { objects, .. } = &err.causes[0] else { panic!("not a cycle: {:?}", err.causes[0]) };
+    assert_eq!(objects.iter().map(|o| o.0).collect::<Vec<_>>(), [1, 2]);
+    assert_eq!(
+        err.reason(),
+        "`o0` cannot be reached: grasping `o1` with `r1` needs `o2` removed first, and grasping `o2` with `r1` \
+         needs `o1` removed first: they block each other"
+    );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+#[test]
+fn object_no_robot_can_grasp() {
+    let (scn, sources) = scenario(2, 2, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1])
+        .null(2, 0, Unreachable::NoPath)
+        .null(1, 1, Unreachable::NoGraspSolution)
+        .null(2, 1, Unreachable::NoPath);
+    let sol = solve(&scn, &t);
+    assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:N", "o1 r1:N r2:N <-o0/r1"]);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(
+        err.causes,
+        [Cause::Ungraspable {
+            object: declutter::resolve::ObjectId(1),
+            name: "o1".into(),
+            reasons: vec![("r1".into(), Unreachable::NoGraspSolution), ("r2".into(), Unreachable::NoPath)],
+            span: scn.objects[1].body.span,
+        }]
+    );
+    assert_eq!(
+        err.reason(),
+        "`o0` cannot be reached: no robot can grasp `o1` (`r1`: no grasp has an inverse-kinematics solution clear \
+         of fixed bodies; `r2`: every path to a grasp hits something fixed)"
+    );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+#[test]
+fn target_no_robot_can_grasp() {
+    let (scn, _) = scenario(2, 1, Some(0), 0);
+    let t = Table::new().null(1, 0, Unreachable::NoGraspSolution).null(2, 0, Unreachable::NoGraspSolution);
+    let sol = solve(&scn, &t);
+    assert_eq!(nodes(&scn, &sol), ["o0 r1:N r2:N"]);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert!(matches!(err.causes.as_slice(), [Cause::Ungraspable { name, .. }] if name == "o0"));
+}
+
+#[test]
+fn flags_do_not_depend_on_flag_order_of_answers() {
+    // Same answers, a fresh oracle: identical graph and plan (determinism).
+    let (scn, _) = scenario(2, 6, Some(0), 0);
+    let a = solve(&scn, &example_3_table());
+    let b = solve(&scn, &example_3_table());
+    assert_eq!(nodes(&scn, &a), nodes(&scn, &b));
+    assert_eq!(a.outcome, b.outcome);
+    assert_eq!(a.graph.node(a.graph.root).flags[0].1, Flag::Blocked);
+}
