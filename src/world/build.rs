@@ -77,36 +77,12 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
     let hands: Vec<Option<HandModel>> = scn.hands.iter().map(|h| ctx.load_hand(&h.urdf, &mut meshes)).collect();
     let mut robots = Vec::new();
     for (i, r) in scn.robots.iter().enumerate() {
-        let Some(model) = ctx.load_urdf(&r.urdf) else { continue };
-        let chain = match Chain::new(&model, r.flange.as_ref().map(|f| f.0.as_str())) {
-            Ok(c) => c,
-            Err(ChainError::UnknownFlange) => {
-                let (link, span) = r.flange.clone().unwrap_or_default();
-                ctx.errs.push(WorldError::UnknownFlange { robot: r.name.clone(), link, span });
-                continue;
-            }
-            Err(ChainError::Structure(reason)) => {
-                ctx.errs.push(WorldError::UrdfStructure { path: r.urdf.written.clone(), reason, span: r.urdf.span });
-                continue;
-            }
+        let Some((chain, mut shapes, mut bodies)) = ctx.load_arm(&r.name, &r.urdf, r.flange.as_ref(), &mut meshes)
+        else {
+            continue;
         };
-        let mut shapes = Vec::new();
-        let mut bodies = Vec::new();
         let root_group = chain.links[0].group;
         let flange_group = chain.links[chain.flange].group;
-        for (li, link) in chain.links.iter().enumerate() {
-            let ml = &model.links[chain.model_index[li]];
-            let placed = ctx.geoms(&r.urdf, &ml.name, &ml.collisions, &mut meshes);
-            push_body(
-                &mut shapes,
-                &mut bodies,
-                &link.name,
-                li,
-                placed,
-                link.group != root_group,
-                link.group == flange_group,
-            );
-        }
         let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
         if let Some((h, hm)) = hand {
             let moving = flange_group != root_group;
@@ -223,6 +199,65 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
     }
 }
 
+/// A robot's kinematics and collision model loaded on its own, without a scenario:
+/// for listing joints (`declutter resolve`) and for testing URDF files.
+pub struct RobotKinematics {
+    chain: Chain,
+    bodies: Vec<String>,
+    shapes: usize,
+}
+
+impl RobotKinematics {
+    /// Actuated joints, in configuration order.
+    pub fn joint_names(&self) -> &[String] {
+        &self.chain.joint_names
+    }
+    /// (lower, upper) per actuated joint.
+    pub fn limits(&self) -> &[(f64, f64)] {
+        &self.chain.limits
+    }
+    /// Every link, root first.
+    pub fn link_names(&self) -> Vec<&str> {
+        self.chain.links.iter().map(|l| l.name.as_str()).collect()
+    }
+    pub fn flange(&self) -> &str {
+        &self.chain.links[self.chain.flange].name
+    }
+    /// Links with collision geometry.
+    pub fn collision_links(&self) -> &[String] {
+        &self.bodies
+    }
+    /// Number of collision shapes over all links.
+    pub fn shape_count(&self) -> usize {
+        self.shapes
+    }
+    /// Pose of every link in the robot's base frame.
+    pub fn fk_links(&self, q: &[f64]) -> Vec<(String, Pose)> {
+        let mut out = vec![Pose::identity(); self.chain.links.len()];
+        self.chain.fk_into(q, &mut out);
+        self.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), p)).collect()
+    }
+}
+
+/// Loads one robot URDF (and its collision meshes) by itself.
+pub fn load_kinematics(
+    urdf: &FileRef,
+    flange: Option<&(String, Span)>,
+    opts: &WorldOptions,
+    loader: &dyn Loader,
+) -> Result<RobotKinematics, Vec<WorldError>> {
+    let mut errs = Vec::new();
+    let mut meshes = MeshCache::new(loader, opts.mesh_mode);
+    let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
+    let arm = ctx.load_arm("robot", urdf, flange, &mut meshes);
+    match arm {
+        Some((chain, shapes, bodies)) if errs.is_empty() => {
+            Ok(RobotKinematics { chain, bodies: bodies.into_iter().map(|b| b.name).collect(), shapes: shapes.len() })
+        }
+        _ => Err(errs),
+    }
+}
+
 fn diag_key(e: &WorldError) -> Option<Span> {
     crate::diag::Located::primary_span(e)
 }
@@ -252,6 +287,40 @@ struct LoadCtx<'a> {
 }
 
 impl LoadCtx<'_> {
+    /// The arm's chain and its own collision bodies (no hand).
+    fn load_arm(
+        &mut self,
+        robot: &str,
+        urdf: &FileRef,
+        flange: Option<&(String, Span)>,
+        meshes: &mut MeshCache,
+    ) -> Option<(Chain, Vec<RShape>, Vec<RBody>)> {
+        let model = self.load_urdf(urdf)?;
+        let chain = match Chain::new(&model, flange.map(|f| f.0.as_str())) {
+            Ok(c) => c,
+            Err(ChainError::UnknownFlange) => {
+                let (link, span) = flange.cloned().unwrap_or_default();
+                self.errs.push(WorldError::UnknownFlange { robot: robot.to_string(), link, span });
+                return None;
+            }
+            Err(ChainError::Structure(reason)) => {
+                self.errs.push(WorldError::UrdfStructure { path: urdf.written.clone(), reason, span: urdf.span });
+                return None;
+            }
+        };
+        let mut shapes = Vec::new();
+        let mut bodies = Vec::new();
+        let root_group = chain.links[0].group;
+        let flange_group = chain.links[chain.flange].group;
+        for (li, link) in chain.links.iter().enumerate() {
+            let ml = &model.links[chain.model_index[li]];
+            let placed = self.geoms(urdf, &ml.name, &ml.collisions, meshes);
+            let (moving, holds) = (link.group != root_group, link.group == flange_group);
+            push_body(&mut shapes, &mut bodies, &link.name, li, placed, moving, holds);
+        }
+        Some((chain, shapes, bodies))
+    }
+
     fn load_urdf(&mut self, file: &FileRef) -> Option<Model> {
         let path = file.written.clone();
         let text = match self.loader.read_to_string(&file.path) {

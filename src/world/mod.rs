@@ -17,7 +17,7 @@ mod labels;
 mod shapes;
 mod urdf;
 
-pub use build::{build, WorldOptions};
+pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
 pub use check::{CheckCtx, CONTACT_TOLERANCE};
 pub use error::WorldError;
 pub use grasps::{report, GraspReport, ObjectReach, RobotReach};
