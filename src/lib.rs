@@ -7,6 +7,7 @@
 pub mod diag;
 pub mod plan;
 pub mod resolve;
+pub mod syntax;
 pub mod world;
 
 pub mod driver;
