@@ -2,12 +2,17 @@
 //! removals: which robot removes which blocking object, in what order, along which
 //! joint paths, so that the target can finally be grasped.
 //!
-//! The modules are the pipeline, in order; a lower one never imports a higher one.
+//! The pipeline, in order (a lower stage never imports a higher one):
+//! `syntax` (text -> spanned AST) -> `resolve` (AST -> typed `Scenario`) -> `world`
+//! (URDF, meshes, kinematics, labelled collision checks) -> `plan` (PRMwO roadmaps,
+//! `findPath`, the AND/OR graph) -> `schedule` (actions, YAML/JSON/DOT) -> `verify`
+//! (an independent re-check). `diag` holds spans and rendering; `driver` runs the
+//! stages for the command line.
 
 pub mod diag;
+pub mod driver;
 pub mod plan;
 pub mod resolve;
 pub mod schedule;
+pub mod syntax;
 pub mod world;
-
-pub mod driver;

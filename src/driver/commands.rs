@@ -9,11 +9,11 @@ fn not_yet(what: &str) -> u8 {
     EXIT_INPUT
 }
 
-pub fn check(_file: &Path, _g: &GlobalOptions) -> u8 {
-    not_yet("check")
+pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
+    super::front::check(file, g)
 }
-pub fn resolve(_file: &Path, _g: &GlobalOptions) -> u8 {
-    not_yet("resolve")
+pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
+    super::front::resolve(file, g)
 }
 pub fn compile(_file: &Path, _g: &GlobalOptions, _o: &CompileOptions) -> u8 {
     not_yet("compile")

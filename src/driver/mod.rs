@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 mod commands;
+mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};
 

@@ -1,8 +1,126 @@
 //! Resolve: spanned AST -> typed [`Scenario`].
 //!
-//! Names become ids, quantities become SI units, `use` files are inlined, poses are
-//! composed into the world frame and grasp `repeat`s are expanded.
+//! In: the root file's path and a [`Loader`]. Out: a [`Scenario`] in which names are
+//! ids, quantities are SI (metres, radians, seconds), `use` files are inlined, poses
+//! are in the world frame and grasp `repeat`s are expanded — or every independent
+//! error found, sorted by position. Files read are added to the [`SourceMap`].
+//!
+//! `scenario` and `target` belong to the root file; a used file that has them is an
+//! error. A file without `scenario` and `target` is a *library* (like a cell file):
+//! [`check`] accepts it, [`resolve`] reports the missing target.
 
+mod error;
+mod load;
+mod lower;
+mod names;
 mod scenario;
+mod units;
+mod yaml;
 
+pub use error::ResolveError;
 pub use scenario::*;
+pub use yaml::to_yaml;
+
+use std::path::Path;
+
+use crate::diag::{Loader, SourceMap};
+
+/// Parses and resolves the scenario at `root` and every file it uses.
+pub fn resolve(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Result<Scenario, Vec<ResolveError>> {
+    let (partial, errors) = run(root, loader, sources);
+    let Some(p) = partial else { return Err(errors) };
+    finish(root, p, errors)
+}
+
+/// What `check` found in a valid file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The `scenario` name, if any.
+    pub name: Option<String>,
+    /// True for a file with neither `scenario` nor `target` (a cell or other shared file).
+    pub library: bool,
+    pub robots: usize,
+    pub objects: usize,
+    pub fixed: usize,
+    pub grasps: usize,
+}
+
+/// Like [`resolve`], but a file with neither `scenario` nor `target` is accepted as a library.
+pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Result<Summary, Vec<ResolveError>> {
+    let (partial, errors) = run(root, loader, sources);
+    let Some(p) = partial else { return Err(errors) };
+    if p.name.is_none() && p.target.is_none() {
+        if !errors.is_empty() {
+            return Err(sorted(errors));
+        }
+        return Ok(Summary {
+            name: None,
+            library: true,
+            robots: p.robots.len(),
+            objects: p.objects.len(),
+            fixed: p.fixed.len(),
+            grasps: p.objects.iter().map(|o| o.grasps.len()).sum(),
+        });
+    }
+    let s = finish(root, p, errors)?;
+    Ok(Summary {
+        name: s.name.clone(),
+        library: false,
+        robots: s.robots.len(),
+        objects: s.objects.len(),
+        fixed: s.fixed.len(),
+        grasps: s.objects.iter().map(|o| o.grasps.len()).sum(),
+    })
+}
+
+fn finish(root: &Path, p: lower::Partial, mut errors: Vec<ResolveError>) -> Result<Scenario, Vec<ResolveError>> {
+    if p.robots.is_empty() {
+        errors.push(ResolveError::NoRobot { span: p.anchor });
+    }
+    let quiet = errors.iter().any(|e| {
+        matches!(
+            e,
+            ResolveError::DuplicateTarget { .. }
+                | ResolveError::BadTarget { .. }
+                | ResolveError::UnknownName { .. }
+                | ResolveError::WrongKind { .. }
+                | ResolveError::JointCount { .. }
+        )
+    });
+    match p.target {
+        Some(target) if errors.is_empty() => Ok(Scenario {
+            name: p.name,
+            root: root.to_path_buf(),
+            hands: p.hands,
+            robots: p.robots,
+            fixed: p.fixed,
+            objects: p.objects,
+            target,
+            planner: p.planner,
+        }),
+        target => {
+            if target.is_none() && !quiet {
+                errors.push(ResolveError::MissingTarget { span: p.anchor });
+            }
+            Err(sorted(errors))
+        }
+    }
+}
+
+/// Loads and lowers; `None` when the root file itself could not be read.
+fn run(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> (Option<lower::Partial>, Vec<ResolveError>) {
+    let mut errors = Vec::new();
+    let loaded = load::load(root, loader, sources, &mut errors);
+    if loaded.root.is_none() {
+        return (None, errors);
+    }
+    let partial = lower::lower(&loaded.items, loaded.root, loader, sources, &mut errors);
+    (Some(partial), errors)
+}
+
+fn sorted(mut errors: Vec<ResolveError>) -> Vec<ResolveError> {
+    use crate::diag::Located;
+    errors.sort_by_key(|e| e.primary_span());
+    errors.dedup();
+    errors
+}

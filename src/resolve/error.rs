@@ -1,0 +1,342 @@
+//! Everything `resolve` can reject, each with a stable code and the span to blame.
+
+use miette::Diagnostic;
+use thiserror::Error;
+
+use crate::diag::{Located, Span};
+use crate::syntax::SyntaxError;
+
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+pub enum ResolveError {
+    /// A syntax error in the root file or in a `use`d file.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Syntax(#[from] SyntaxError),
+
+    #[error("cannot read `{path}`: {reason}")]
+    #[diagnostic(code(declutter::resolve::unreadable))]
+    Unreadable {
+        path: String,
+        reason: String,
+        /// The `use` that names the file; `None` for the file given on the command line.
+        #[label("named here")]
+        span: Option<Span>,
+    },
+
+    #[error("`use` cycle: {chain}")]
+    #[diagnostic(
+        code(declutter::resolve::use_cycle),
+        help("a file may not use itself, directly or through other files")
+    )]
+    UseCycle {
+        chain: String,
+        #[label("this `use` closes the cycle")]
+        span: Span,
+    },
+
+    #[error("{what} file `{path}` does not exist")]
+    #[diagnostic(
+        code(declutter::resolve::missing_file),
+        help("paths are relative to the directory of the file that names them ({dir})")
+    )]
+    MissingFile {
+        what: &'static str,
+        path: String,
+        dir: String,
+        #[label("no such file")]
+        span: Span,
+    },
+
+    #[error("unknown {kind} `{name}`")]
+    #[diagnostic(code(declutter::resolve::unknown_name))]
+    UnknownName {
+        kind: &'static str,
+        name: String,
+        #[label("no {kind} has this name")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("`{name}` is {found}, not {expected}")]
+    #[diagnostic(code(declutter::resolve::wrong_kind))]
+    WrongKind {
+        name: String,
+        expected: &'static str,
+        found: &'static str,
+        #[label("expected {expected}")]
+        span: Span,
+        #[label("`{name}` is declared here")]
+        decl: Option<Span>,
+    },
+
+    #[error("`{name}` is declared twice")]
+    #[diagnostic(code(declutter::resolve::duplicate_name))]
+    DuplicateName {
+        name: String,
+        #[label("declared again here")]
+        span: Span,
+        /// The first declaration, when it is in the same file.
+        #[label("first declared here")]
+        first: Option<Span>,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("expected {expected}, found {found}")]
+    #[diagnostic(code(declutter::resolve::unit_mismatch))]
+    UnitMismatch {
+        expected: &'static str,
+        found: String,
+        #[label("expected {expected}")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("unknown unit `{unit}`")]
+    #[diagnostic(code(declutter::resolve::unknown_unit))]
+    UnknownUnit {
+        unit: String,
+        #[label("not a unit")]
+        span: Span,
+        #[help]
+        help: String,
+    },
+
+    #[error("{what} takes {expected}, found {found}")]
+    #[diagnostic(code(declutter::resolve::wrong_count))]
+    WrongCount {
+        what: String,
+        expected: String,
+        found: usize,
+        #[label("{found} given here")]
+        span: Span,
+    },
+
+    #[error("this number is not finite")]
+    #[diagnostic(
+        code(declutter::resolve::not_finite),
+        help("numbers must be finite; this one overflows a 64-bit float")
+    )]
+    NotFinite {
+        #[label("too large to represent")]
+        span: Span,
+    },
+
+    #[error("{what} must be {limit}, found {value}")]
+    #[diagnostic(code(declutter::resolve::out_of_range))]
+    OutOfRange {
+        what: String,
+        limit: String,
+        value: String,
+        #[label("out of range")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("{what} must be a whole number, found `{value}`")]
+    #[diagnostic(code(declutter::resolve::not_integer))]
+    NotInteger {
+        what: String,
+        value: String,
+        #[label("not a whole number")]
+        span: Span,
+    },
+
+    #[error("`repeat 0` makes no grasps")]
+    #[diagnostic(
+        code(declutter::resolve::repeat_zero),
+        help("use `repeat 1` (or leave `repeat` out) for a single grasp")
+    )]
+    RepeatZero {
+        #[label("must be at least 1")]
+        span: Span,
+    },
+
+    #[error("grasp `{grasp}` on fixed body `{body}`")]
+    #[diagnostic(
+        code(declutter::resolve::grasp_on_fixed),
+        help("fixed bodies are never moved; declare `{body}` with `object` if a robot may remove it")
+    )]
+    GraspOnFixed {
+        grasp: String,
+        body: String,
+        #[label("grasps are only allowed on objects")]
+        span: Span,
+        #[label("declared `fixed` here")]
+        kind: Span,
+    },
+
+    #[error("the scenario has no `target`")]
+    #[diagnostic(
+        code(declutter::resolve::missing_target),
+        help("add `target OBJECT` (grasp that object) or `target ROBOT at [joint values]`")
+    )]
+    MissingTarget {
+        #[label("in this scenario")]
+        span: Span,
+    },
+
+    #[error("more than one `target`")]
+    #[diagnostic(code(declutter::resolve::duplicate_target), help("a scenario has exactly one target"))]
+    DuplicateTarget {
+        #[label("second target")]
+        span: Span,
+        #[label("first target")]
+        first: Option<Span>,
+    },
+
+    #[error("`{what}` in a used file")]
+    #[diagnostic(code(declutter::resolve::not_in_used_file), help("`scenario` and `target` belong to the file given on the command line; a used file only contributes declarations"))]
+    NotInUsedFile {
+        what: &'static str,
+        #[label("only allowed in the root file")]
+        span: Span,
+    },
+
+    #[error("the scenario has no robot")]
+    #[diagnostic(
+        code(declutter::resolve::no_robot),
+        help("declare at least one `robot NAME {{ ... }}`, or `use` a cell file that does")
+    )]
+    NoRobot {
+        #[label("in this scenario")]
+        span: Span,
+    },
+
+    #[error("{decl} `{name}` has no `{what}`")]
+    #[diagnostic(code(declutter::resolve::missing_statement))]
+    MissingStatement {
+        decl: &'static str,
+        name: String,
+        what: &'static str,
+        #[label("needs a `{what}` statement")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("`{what}` given twice")]
+    #[diagnostic(code(declutter::resolve::duplicate_statement))]
+    DuplicateStatement {
+        what: String,
+        #[label("given again here")]
+        span: Span,
+        #[label("first given here")]
+        first: Span,
+    },
+
+    #[error("{kind} `{name}` has no shape")]
+    #[diagnostic(
+        code(declutter::resolve::no_shape),
+        help(
+            "give a shape after the name (`{kind} {name} box(10cm, 10cm, 10cm) at (...)`) or list shapes in its block"
+        )
+    )]
+    NoShape {
+        kind: &'static str,
+        name: String,
+        #[label("no shape")]
+        span: Span,
+    },
+
+    #[error("{problem}")]
+    #[diagnostic(code(declutter::resolve::shape_argument))]
+    ShapeArgument {
+        problem: String,
+        #[label("here")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("unknown planner setting `{key}`")]
+    #[diagnostic(code(declutter::resolve::unknown_planner_key))]
+    UnknownPlannerKey {
+        key: String,
+        #[label("not a planner setting")]
+        span: Span,
+        #[help]
+        help: String,
+    },
+
+    #[error("invalid value for `{key}`: expected {expected}")]
+    #[diagnostic(code(declutter::resolve::bad_planner_value))]
+    BadPlannerValue {
+        key: String,
+        expected: String,
+        #[label("expected {expected}")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("{problem}")]
+    #[diagnostic(code(declutter::resolve::bad_target))]
+    BadTarget {
+        problem: String,
+        #[label("here")]
+        span: Span,
+        #[help]
+        help: Option<String>,
+    },
+
+    #[error("`{robot}` has {expected} joint values in `home`, but {found} here")]
+    #[diagnostic(
+        code(declutter::resolve::joint_count),
+        help("every joint vector of a robot lists one value per joint, like its `home`")
+    )]
+    JointCount {
+        robot: String,
+        expected: usize,
+        found: usize,
+        #[label("{found} values")]
+        span: Span,
+        #[label("{expected} values")]
+        home: Option<Span>,
+    },
+}
+
+impl Located for ResolveError {
+    fn primary_span(&self) -> Option<Span> {
+        use ResolveError::*;
+        match self {
+            Syntax(e) => e.primary_span(),
+            Unreadable { span, .. } => *span,
+            UseCycle { span, .. }
+            | MissingFile { span, .. }
+            | UnknownName { span, .. }
+            | WrongKind { span, .. }
+            | DuplicateName { span, .. }
+            | UnitMismatch { span, .. }
+            | UnknownUnit { span, .. }
+            | WrongCount { span, .. }
+            | NotFinite { span }
+            | OutOfRange { span, .. }
+            | NotInteger { span, .. }
+            | RepeatZero { span }
+            | GraspOnFixed { span, .. }
+            | MissingTarget { span }
+            | DuplicateTarget { span, .. }
+            | NotInUsedFile { span, .. }
+            | NoRobot { span }
+            | MissingStatement { span, .. }
+            | DuplicateStatement { span, .. }
+            | NoShape { span, .. }
+            | ShapeArgument { span, .. }
+            | UnknownPlannerKey { span, .. }
+            | BadPlannerValue { span, .. }
+            | BadTarget { span, .. }
+            | JointCount { span, .. } => Some(*span),
+        }
+    }
+}
+
+impl ResolveError {
+    /// The stable code, e.g. `declutter::resolve::unit_mismatch`.
+    pub fn code_str(&self) -> String {
+        self.code().map(|c| c.to_string()).unwrap_or_default()
+    }
+}

@@ -1,0 +1,156 @@
+//! Quantities -> SI numbers. A bare number is metres, radians or seconds by context.
+
+use super::names::did_you_mean;
+use super::ResolveError;
+use crate::syntax::ast::Quantity;
+
+/// Largest length anywhere in a scenario (metres). A robot cell is a few metres across.
+pub const MAX_LENGTH: f64 = 100.0;
+/// Largest angle written anywhere (radians): a few turns either way.
+pub const MAX_ANGLE: f64 = 100.0;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Length,
+    Angle,
+    Time,
+    Count,
+}
+
+impl Kind {
+    fn article(self) -> &'static str {
+        match self {
+            Kind::Length => "a length",
+            Kind::Angle => "an angle",
+            Kind::Time => "a duration",
+            Kind::Count => "a plain number",
+        }
+    }
+    fn units(self) -> &'static str {
+        match self {
+            Kind::Length => "m, cm or mm",
+            Kind::Angle => "deg or rad",
+            Kind::Time => "s or ms",
+            Kind::Count => "no unit",
+        }
+    }
+}
+
+const UNITS: [(&str, Kind, f64); 7] = [
+    ("m", Kind::Length, 1.0),
+    ("cm", Kind::Length, 0.01),
+    ("mm", Kind::Length, 0.001),
+    ("deg", Kind::Angle, std::f64::consts::PI / 180.0),
+    ("rad", Kind::Angle, 1.0),
+    ("s", Kind::Time, 1.0),
+    ("ms", Kind::Time, 0.001),
+];
+
+/// The value of `q` in SI units, checking that its unit is of kind `want` and that it is finite.
+pub fn convert(q: &Quantity, want: Kind) -> Result<f64, ResolveError> {
+    if !q.value.is_finite() {
+        return Err(ResolveError::NotFinite { span: q.span });
+    }
+    let factor = match &q.unit {
+        None => 1.0,
+        Some(u) => {
+            let Some((_, kind, factor)) = UNITS.iter().find(|(n, _, _)| *n == u.name) else {
+                let names: Vec<&str> = UNITS.iter().map(|(n, _, _)| *n).collect();
+                let help = match did_you_mean(&u.name, names.iter().copied()) {
+                    Some(s) => format!("did you mean `{s}`? Units are m, cm, mm, deg, rad (and s, ms for times)"),
+                    None => "units are m, cm, mm for lengths and deg, rad for angles (s, ms for times)".to_string(),
+                };
+                return Err(ResolveError::UnknownUnit { unit: u.name.clone(), span: u.span, help });
+            };
+            if *kind != want {
+                return Err(ResolveError::UnitMismatch {
+                    expected: want.article(),
+                    found: format!("{} ({})", kind.article(), u.name),
+                    span: q.span,
+                    help: Some(format!("{} is written in {}", want.article(), want.units())),
+                });
+            }
+            *factor
+        }
+    };
+    let v = q.value * factor;
+    let limit = match want {
+        Kind::Length => MAX_LENGTH,
+        Kind::Angle => MAX_ANGLE,
+        _ => f64::INFINITY,
+    };
+    if v.abs() > limit {
+        return Err(ResolveError::OutOfRange {
+            what: want.article().to_string(),
+            limit: format!("at most {limit} {} in size", if want == Kind::Length { "m" } else { "rad" }),
+            value: written(q),
+            span: q.span,
+            help: Some("declutter rejects absurd quantities; check the unit".to_string()),
+        });
+    }
+    Ok(v)
+}
+
+/// A length that must be strictly positive (sizes, radii).
+pub fn positive_length(q: &Quantity, what: &str) -> Result<f64, ResolveError> {
+    let v = convert(q, Kind::Length)?;
+    if v <= 0.0 {
+        return Err(ResolveError::OutOfRange {
+            what: what.to_string(),
+            limit: "greater than zero".to_string(),
+            value: written(q),
+            span: q.span,
+            help: Some("sizes are full extents and radii are radii: both must be positive".to_string()),
+        });
+    }
+    Ok(v)
+}
+
+/// A whole number without unit in `lo..=hi`.
+pub fn integer(q: &Quantity, what: &str, lo: u64, hi: u64) -> Result<u64, ResolveError> {
+    if let Some(u) = &q.unit {
+        return Err(ResolveError::UnitMismatch {
+            expected: "a plain number",
+            found: format!("the unit `{}`", u.name),
+            span: q.span,
+            help: Some(format!("{what} is a count and takes no unit")),
+        });
+    }
+    let text = q.number.strip_prefix('+').unwrap_or(&q.number);
+    let n = match text.parse::<u64>() {
+        Ok(n) => n,
+        Err(_) => {
+            if !q.value.is_finite() {
+                return Err(ResolveError::NotFinite { span: q.span });
+            }
+            if q.value < 0.0 || (q.value.fract() == 0.0 && q.value > hi as f64) {
+                return Err(ResolveError::OutOfRange {
+                    what: what.to_string(),
+                    limit: format!("between {lo} and {hi}"),
+                    value: written(q),
+                    span: q.span,
+                    help: None,
+                });
+            }
+            return Err(ResolveError::NotInteger { what: what.to_string(), value: written(q), span: q.span });
+        }
+    };
+    if n < lo || n > hi {
+        return Err(ResolveError::OutOfRange {
+            what: what.to_string(),
+            limit: format!("between {lo} and {hi}"),
+            value: written(q),
+            span: q.span,
+            help: None,
+        });
+    }
+    Ok(n)
+}
+
+/// The quantity as the user wrote it.
+pub fn written(q: &Quantity) -> String {
+    match &q.unit {
+        Some(u) => format!("{}{}", q.number, u.name),
+        None => q.number.clone(),
+    }
+}
