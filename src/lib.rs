@@ -15,4 +15,5 @@ pub mod plan;
 pub mod resolve;
 pub mod schedule;
 pub mod syntax;
+pub mod verify;
 pub mod world;

@@ -18,8 +18,8 @@ pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
 pub fn compile(_file: &Path, _g: &GlobalOptions, _o: &CompileOptions) -> u8 {
     not_yet("compile")
 }
-pub fn verify(_file: &Path, _schedule: &Path, _g: &GlobalOptions) -> u8 {
-    not_yet("verify")
+pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions) -> u8 {
+    super::verify_cmd::verify(file, schedule, g)
 }
 pub fn graph(_file: &Path, _g: &GlobalOptions, _seed: Option<u64>) -> u8 {
     not_yet("graph")

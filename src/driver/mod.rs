@@ -4,6 +4,10 @@
 use std::path::PathBuf;
 
 mod commands;
+mod pipeline;
+mod verify_cmd;
+
+pub use verify_cmd::parse_schedule;
 mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};

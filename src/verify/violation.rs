@@ -1,0 +1,209 @@
+//! What `verify` reports: one violation per broken rule, located by action, phase and
+//! waypoint or segment.
+
+use std::fmt;
+
+use crate::resolve::Scenario;
+use crate::world::Blocker;
+
+/// Which half of an action a waypoint or segment belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    Approach,
+    Retreat,
+}
+
+impl fmt::Display for Phase {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Phase::Approach => "approach",
+            Phase::Retreat => "retreat",
+        })
+    }
+}
+
+/// Where in the schedule a violation is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Location {
+    Schedule,
+    Action(u32),
+    Waypoint {
+        action: u32,
+        phase: Phase,
+        index: usize,
+    },
+    /// Segment `index` runs from waypoint `index` to waypoint `index + 1`.
+    Segment {
+        action: u32,
+        phase: Phase,
+        index: usize,
+    },
+}
+
+/// One broken rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Violation {
+    pub location: Location,
+    pub kind: ViolationKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ViolationKind {
+    NotSolved,
+    BadId {
+        expected: u32,
+    },
+    BadAfter {
+        dep: u32,
+    },
+    UnknownRobot {
+        name: String,
+    },
+    UnknownObject {
+        name: String,
+    },
+    AlreadyRemoved {
+        object: String,
+    },
+    WrongLength {
+        expected: usize,
+        found: usize,
+    },
+    OutOfLimits {
+        joint: String,
+        value: f64,
+        lo: f64,
+        hi: f64,
+    },
+    NotAtHome,
+    EmptyApproach,
+    EmptyRetreat,
+    RetreatNotFromGrasp,
+    MissingGrasp,
+    UnknownGrasp {
+        name: String,
+        object: String,
+    },
+    GraspNotForHand {
+        grasp: String,
+    },
+    MissesGrasp {
+        grasp: String,
+        distance: f64,
+        angle: f64,
+    },
+    ReachNotTarget,
+    /// A fixed body, another robot, self-collision or a joint limit, described.
+    Blocked(String),
+    /// Touches an object no earlier action removed.
+    HitsObject {
+        object: String,
+    },
+    /// Touches an object an earlier action removed, without waiting for that action.
+    MissingAfter {
+        object: String,
+        by: u32,
+    },
+    TargetNotLast,
+    RemovedListMismatch {
+        expected: String,
+    },
+}
+
+impl Violation {
+    pub fn general(kind: ViolationKind) -> Violation {
+        Violation { location: Location::Schedule, kind }
+    }
+    pub fn at(action: u32, kind: ViolationKind) -> Violation {
+        Violation { location: Location::Action(action), kind }
+    }
+    pub fn waypoint(action: u32, phase: Phase, index: usize, kind: ViolationKind) -> Violation {
+        Violation { location: Location::Waypoint { action, phase, index }, kind }
+    }
+    pub fn segment(action: u32, phase: Phase, index: usize, kind: ViolationKind) -> Violation {
+        Violation { location: Location::Segment { action, phase, index }, kind }
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Schedule => f.write_str("schedule"),
+            Location::Action(a) => write!(f, "action {a}"),
+            Location::Waypoint { action, phase, index } => write!(f, "action {action}, {phase} waypoint {index}"),
+            Location::Segment { action, phase, index } => {
+                write!(f, "action {action}, {phase} segment {index}→{}", index + 1)
+            }
+        }
+    }
+}
+
+impl fmt::Display for ViolationKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use ViolationKind::*;
+        match self {
+            NotSolved => f.write_str("the schedule is not solved (status is not `solved`)"),
+            BadId { expected } => write!(f, "ids must run 1, 2, 3, … in order; expected {expected}"),
+            BadAfter { dep } => write!(f, "waits for action {dep}, which does not run before it"),
+            UnknownRobot { name } => write!(f, "no robot named `{name}` in the scenario"),
+            UnknownObject { name } => write!(f, "no removable object named `{name}` in the scenario"),
+            AlreadyRemoved { object } => write!(f, "`{object}` was already removed by an earlier action"),
+            WrongLength { expected, found } => write!(f, "has {found} joint values; the robot has {expected} joints"),
+            OutOfLimits { joint, value, lo, hi } => {
+                write!(f, "joint `{joint}` is {value:.6}, outside its limits [{lo:.6}, {hi:.6}]")
+            }
+            NotAtHome => f.write_str("is not the robot's home configuration"),
+            EmptyApproach => f.write_str("has no approach waypoints"),
+            EmptyRetreat => f.write_str("has no retreat waypoints"),
+            RetreatNotFromGrasp => f.write_str("the retreat does not start where the approach ends"),
+            MissingGrasp => f.write_str("names no grasp"),
+            UnknownGrasp { name, object } => write!(f, "object `{object}` has no grasp `{name}`"),
+            GraspNotForHand { grasp } => write!(f, "grasp `{grasp}` is not for this robot's hand"),
+            MissesGrasp { grasp, distance, angle } => write!(
+                f,
+                "the approach ends {:.2} mm and {:.3}° away from grasp `{grasp}` (allowed: 1 mm, 0.5°)",
+                distance * 1e3,
+                angle.to_degrees()
+            ),
+            ReachNotTarget => f.write_str("a reach action that does not end at the target configuration"),
+            Blocked(what) => f.write_str(what),
+            HitsObject { object } => write!(f, "touches `{object}`, which is still in place"),
+            MissingAfter { object, by } => {
+                write!(f, "needs `{object}` removed (action {by}) but does not wait for that action in `after`")
+            }
+            TargetNotLast => f.write_str("the last action does not grasp (or reach) the target"),
+            RemovedListMismatch { expected } => {
+                write!(f, "`removed` does not list the grasped objects in action order ({expected})")
+            }
+        }
+    }
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.location, self.kind)
+    }
+}
+
+/// A blocker in scenario terms: names of bodies, robots, links.
+pub fn describe_blocker(scn: &Scenario, b: &Blocker) -> String {
+    let fixed = |id: crate::resolve::FixedId| scn.fixed.get(id.index()).map_or("?", |b| b.name.as_str()).to_string();
+    let object =
+        |id: crate::resolve::ObjectId| scn.objects.get(id.index()).map_or("?", |o| o.body.name.as_str()).to_string();
+    let robot = |id: crate::resolve::RobotId| scn.robots.get(id.index()).map_or("?", |r| r.name.as_str()).to_string();
+    match b {
+        Blocker::Fixed { body, link } => format!("link `{link}` hits fixed body `{}`", fixed(*body)),
+        Blocker::HeldFixed { object: o, body } => {
+            format!("carried `{}` hits fixed body `{}`", object(*o), fixed(*body))
+        }
+        Blocker::Robot { other, link, other_link } => {
+            format!("link `{link}` hits robot `{}` (link `{other_link}`) at its home", robot(*other))
+        }
+        Blocker::HeldRobot { object: o, other, other_link } => {
+            format!("carried `{}` hits robot `{}` (link `{other_link}`) at its home", object(*o), robot(*other))
+        }
+        Blocker::SelfCollision { link_a, link_b } => format!("self-collision between `{link_a}` and `{link_b}`"),
+        Blocker::HeldSelf { object: o, link } => format!("carried `{}` hits the arm's own link `{link}`", object(*o)),
+        Blocker::JointLimit { joint, value } => format!("joint `{joint}` at {value:.6} is outside its limits"),
+    }
+}
