@@ -298,3 +298,135 @@ fn flags_do_not_depend_on_flag_order_of_answers() {
     assert_eq!(a.outcome, b.outcome);
     assert_eq!(a.graph.node(a.graph.root).flags[0].1, Flag::Blocked);
 }
+
+#[test]
+fn a_cheaper_but_cyclic_choice_is_rejected() {
+    // Taking O1 and O2 both with R1 would be three actions, but each needs the other
+    // gone first. O2 with R2 needs O3 gone: four actions, in an order that works.
+    let (scn, _) = scenario(2, 4, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1, 2])
+        .null(2, 0, Unreachable::NoGraspSolution)
+        .path(1, 1, &[2])
+        .null(2, 1, Unreachable::NoGraspSolution)
+        .path(1, 2, &[1])
+        .path(2, 2, &[3])
+        .path(1, 3, &[])
+        .path(2, 3, &[]);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:N",
+            "o1 r1:B r2:N <-o0/r1",
+            "o2 r1:B r2:B <-o0/r1",
+            "o2 r1:D r2:B <-o1/r1",
+            "o1 r1:D r2:N <-o2/r1",
+            "o3 r1:F r2:F <-o2/r2",
+            "o3 r1:∅ r2:∅ <-o2/r2",
+        ]
+    );
+    assert_eq!(
+        actions(&scn, &sol),
+        ["1 r1 o3 after []", "2 r2 o2 after [1]", "3 r1 o1 after [2]", "4 r1 o0 after [2,3]"]
+    );
+}
+
+#[test]
+fn configuration_target_out_of_reach() {
+    let (scn, sources) = scenario(2, 1, None, 0);
+    let t = Table::new().null_reach(1, Unreachable::GoalBlocked);
+    let sol = solve(&scn, &t);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(
+        err.reason(),
+        "`r1 at [0.5, -0.5]` cannot be reached: `r1` cannot reach the target configuration (the configuration \
+         is outside the joint limits or hits something fixed)"
+    );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+mod random {
+    //! On random complete tables: a plan, when there is one, is a valid precedence
+    //! order; and there is none exactly when no acyclic derivation exists at all.
+    use std::collections::BTreeSet;
+
+    use proptest::prelude::*;
+
+    use super::common::{scenario, Table};
+    use declutter::plan::andor::{solve, Item};
+    use declutter::plan::Unreachable;
+
+    /// Per (robot, object): `None` = Null, `Some(mask)` = blocked by the objects in mask.
+    fn table() -> impl Strategy<Value = (usize, usize, Vec<Option<u8>>)> {
+        (2usize..=3, 2usize..=6).prop_flat_map(|(robots, objects)| {
+            let cell = prop_oneof![1 => Just(None), 3 => (0u8..64).prop_map(Some)];
+            (Just(robots), Just(objects), proptest::collection::vec(cell, robots * objects))
+        })
+    }
+
+    /// Least fixed point over the whole table: is the target removable at all?
+    fn solvable(robots: usize, objects: usize, cells: &[Option<u8>]) -> bool {
+        let mut done = BTreeSet::new();
+        loop {
+            let before = done.len();
+            for o in 0..objects {
+                for r in 0..robots {
+                    if let Some(mask) = cells[r * objects + o] {
+                        let so: Vec<usize> = (0..objects).filter(|k| mask & (1 << k) != 0 && *k != o).collect();
+                        if so.iter().all(|k| done.contains(k)) {
+                            done.insert(o);
+                        }
+                    }
+                }
+            }
+            if done.contains(&0) {
+                return true;
+            }
+            if done.len() == before {
+                return false;
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn plans_are_valid_and_complete((robots, objects, cells) in table()) {
+            let (scn, _) = scenario(robots, objects, Some(0), 0);
+            let mut t = Table::new();
+            for r in 0..robots {
+                for o in 0..objects {
+                    t = match cells[r * objects + o] {
+                        None => t.null(r as u32 + 1, o as u32, Unreachable::NoPath),
+                        Some(mask) => {
+                            let so: Vec<u32> = (0..objects as u32).filter(|k| mask & (1 << k) != 0 && *k as usize != o).collect();
+                            t.path(r as u32 + 1, o as u32, &so)
+                        }
+                    };
+                }
+            }
+            let sol = solve(&scn, &t);
+            prop_assert_eq!(sol.outcome.is_ok(), solvable(robots, objects, &cells));
+            // No query is asked twice.
+            let asked = t.asked();
+            let unique: BTreeSet<_> = asked.iter().collect();
+            prop_assert_eq!(unique.len(), asked.len());
+            if let Ok(plan) = &sol.outcome {
+                let last = plan.actions.last().unwrap();
+                prop_assert_eq!(last.item, Item::Object(declutter::resolve::ObjectId(0)));
+                let items: BTreeSet<Item> = plan.actions.iter().map(|a| a.item).collect();
+                prop_assert_eq!(items.len(), plan.actions.len());
+                for (i, a) in plan.actions.iter().enumerate() {
+                    let so = &sol.graph.found(a.robot, a.item).unwrap().removals;
+                    let mut want: Vec<usize> = so
+                        .iter()
+                        .map(|o| plan.actions.iter().position(|b| b.item == Item::Object(o)).unwrap())
+                        .collect();
+                    want.sort();
+                    prop_assert_eq!(&a.after, &want);
+                    prop_assert!(a.after.iter().all(|j| *j < i));
+                }
+            }
+        }
+    }
+}
