@@ -302,7 +302,8 @@ fn flags_do_not_depend_on_flag_order_of_answers() {
 #[test]
 fn a_cheaper_but_cyclic_choice_is_rejected() {
     // Taking O1 and O2 both with R1 would be three actions, but each needs the other
-    // gone first. O2 with R2 needs O3 gone: four actions, in an order that works.
+    // gone first. O2 with R2 needs O3 gone: four actions, in an order that works; R2
+    // also takes O3, so each robot does two.
     let (scn, _) = scenario(2, 4, Some(0), 0);
     let t = Table::new()
         .path(1, 0, &[1, 2])
@@ -328,7 +329,7 @@ fn a_cheaper_but_cyclic_choice_is_rejected() {
     );
     assert_eq!(
         actions(&scn, &sol),
-        ["1 r1 o3 after []", "2 r2 o2 after [1]", "3 r1 o1 after [2]", "4 r1 o0 after [2,3]"]
+        ["1 r2 o3 after []", "2 r2 o2 after [1]", "3 r1 o1 after [2]", "4 r1 o0 after [2,3]"]
     );
 }
 
