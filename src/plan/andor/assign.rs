@@ -34,6 +34,10 @@ pub struct Action {
 }
 
 /// Actions in execution order; the target's is last.
+///
+/// Chosen by the rule of this module: fewest actions, then the fewest for the busiest
+/// robot, then the lowest robot ids (target first, then objects by id). Among ready
+/// actions the order takes the longest chain still waiting first, then the lowest item.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
     pub actions: Vec<Action>,
