@@ -390,6 +390,59 @@ mod random {
         }
     }
 
+    fn busiest(choice: &[Option<u32>]) -> usize {
+        (0..3).map(|r| choice.iter().filter(|x| **x == Some(r)).count()).max().unwrap()
+    }
+
+    /// The smallest (actions, busiest robot) over every choice of at most one robot
+    /// per object that is closed under SO, acyclic and includes the target.
+    fn brute_force(graph: &declutter::plan::andor::Graph, objects: usize) -> (usize, usize) {
+        use declutter::resolve::{ObjectId, RobotId};
+        let mut best = (usize::MAX, usize::MAX);
+        for code in 0..4usize.pow(objects as u32) {
+            let mut choice = vec![None; objects];
+            let mut c = code;
+            for slot in choice.iter_mut() {
+                let v = (c % 4) as u32;
+                c /= 4;
+                if v > 0 {
+                    *slot = Some(v - 1);
+                }
+            }
+            if choice[0].is_none() {
+                continue;
+            }
+            let so = |o: usize| -> Option<Vec<usize>> {
+                let r = choice[o]?;
+                let p = graph.found(RobotId(r), Item::Object(ObjectId(o as u32)))?;
+                Some(p.removals.iter().map(|x| x.index()).collect())
+            };
+            let closed = (0..objects)
+                .all(|o| choice[o].is_none() || so(o).is_some_and(|s| s.iter().all(|k| choice[*k].is_some())));
+            if !closed {
+                continue;
+            }
+            // Acyclic: repeatedly mark the objects whose SO is all marked.
+            let mut done = vec![false; objects];
+            let mut progress = true;
+            while progress {
+                progress = false;
+                for o in 0..objects {
+                    if choice[o].is_some() && !done[o] && so(o).unwrap().iter().all(|k| done[*k]) {
+                        done[o] = true;
+                        progress = true;
+                    }
+                }
+            }
+            if (0..objects).any(|o| choice[o].is_some() && !done[o]) {
+                continue;
+            }
+            let n = choice.iter().filter(|x| x.is_some()).count();
+            best = best.min((n, busiest(&choice)));
+        }
+        best
+    }
+
     proptest! {
         #[test]
         fn plans_are_valid_and_complete((robots, objects, cells) in table()) {
@@ -427,6 +480,13 @@ mod random {
                     prop_assert_eq!(&a.after, &want);
                     prop_assert!(a.after.iter().all(|j| *j < i));
                 }
+                // Rules 1 and 2 against brute force over the answers G holds.
+                let best = brute_force(&sol.graph, objects);
+                let mut mine = vec![None; objects];
+                for a in &plan.actions {
+                    mine[a.item.object().unwrap().index()] = Some(a.robot.0);
+                }
+                prop_assert_eq!((plan.actions.len(), busiest(&mine)), best);
             }
         }
     }
