@@ -390,15 +390,18 @@ mod random {
         }
     }
 
-    fn busiest(choice: &[Option<u32>]) -> usize {
-        (0..3).map(|r| choice.iter().filter(|x| **x == Some(r)).count()).max().unwrap()
+    /// Actions per robot, busiest first.
+    fn loads(choice: &[Option<u32>]) -> Vec<usize> {
+        let mut l: Vec<usize> = (0..3).map(|r| choice.iter().filter(|x| **x == Some(r)).count()).collect();
+        l.sort_by(|a, b| b.cmp(a));
+        l
     }
 
-    /// The smallest (actions, busiest robot) over every choice of at most one robot
+    /// The smallest (actions, loads) over every choice of at most one robot
     /// per object that is closed under SO, acyclic and includes the target.
-    fn brute_force(graph: &declutter::plan::andor::Graph, objects: usize) -> (usize, usize) {
+    fn brute_force(graph: &declutter::plan::andor::Graph, objects: usize) -> (usize, Vec<usize>) {
         use declutter::resolve::{ObjectId, RobotId};
-        let mut best = (usize::MAX, usize::MAX);
+        let mut best = (usize::MAX, vec![]);
         for code in 0..4usize.pow(objects as u32) {
             let mut choice = vec![None; objects];
             let mut c = code;
@@ -438,7 +441,7 @@ mod random {
                 continue;
             }
             let n = choice.iter().filter(|x| x.is_some()).count();
-            best = best.min((n, busiest(&choice)));
+            best = best.min((n, loads(&choice)));
         }
         best
     }
@@ -486,8 +489,34 @@ mod random {
                 for a in &plan.actions {
                     mine[a.item.object().unwrap().index()] = Some(a.robot.0);
                 }
-                prop_assert_eq!((plan.actions.len(), busiest(&mine)), best);
+                prop_assert_eq!((plan.actions.len(), loads(&mine)), best);
             }
         }
     }
+}
+
+#[test]
+fn no_robot_at_all() {
+    let (scn, _) = scenario(0, 1, Some(0), 0);
+    let sol = solve(&scn, &Table::new());
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(err.reason(), "`o0` cannot be reached: no robot can grasp `o0` (the scenario declares no robot)");
+}
+
+#[test]
+fn wide_and_is_spread_over_three_robots() {
+    // The target needs twelve objects gone, each free for every robot.
+    let (scn, _) = scenario(3, 13, Some(0), 0);
+    let all: Vec<u32> = (1..13).collect();
+    let mut t = Table::new().path(1, 0, &all).null(2, 0, Unreachable::NoPath).null(3, 0, Unreachable::NoPath);
+    for o in 1..13 {
+        t = t.path(1, o, &[]).path(2, o, &[]).path(3, o, &[]);
+    }
+    let start = std::time::Instant::now();
+    let sol = solve(&scn, &t);
+    assert!(start.elapsed().as_secs() < 20);
+    let plan = sol.outcome.as_ref().unwrap();
+    assert_eq!(plan.actions.len(), 13);
+    let per_robot: Vec<usize> = (0..3).map(|r| plan.actions.iter().filter(|a| a.robot.0 == r).count()).collect();
+    assert_eq!(per_robot, [5, 4, 4]);
 }
