@@ -11,7 +11,7 @@
 //!    for the second busiest, and so on (spreads the work);
 //! 3. lowest robot ids, compared item by item: the target first, then objects by id.
 //!
-//! The search is exhaustive with pruning on rule 1; past [`SEARCH_BUDGET`] partial
+//! The search is exhaustive, pruned on rule 1 and on the busiest robot; past [`SEARCH_BUDGET`] partial
 //! choices it keeps the best found so far, or the first solution found bottom-up.
 
 use std::collections::{BTreeMap, BTreeSet};
