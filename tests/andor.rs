@@ -298,3 +298,225 @@ fn flags_do_not_depend_on_flag_order_of_answers() {
     assert_eq!(a.outcome, b.outcome);
     assert_eq!(a.graph.node(a.graph.root).flags[0].1, Flag::Blocked);
 }
+
+#[test]
+fn a_cheaper_but_cyclic_choice_is_rejected() {
+    // Taking O1 and O2 both with R1 would be three actions, but each needs the other
+    // gone first. O2 with R2 needs O3 gone: four actions, in an order that works; R2
+    // also takes O3, so each robot does two.
+    let (scn, _) = scenario(2, 4, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1, 2])
+        .null(2, 0, Unreachable::NoGraspSolution)
+        .path(1, 1, &[2])
+        .null(2, 1, Unreachable::NoGraspSolution)
+        .path(1, 2, &[1])
+        .path(2, 2, &[3])
+        .path(1, 3, &[])
+        .path(2, 3, &[]);
+    let sol = solve(&scn, &t);
+    assert_eq!(
+        nodes(&scn, &sol),
+        [
+            "o0 r1:B r2:N",
+            "o1 r1:B r2:N <-o0/r1",
+            "o2 r1:B r2:B <-o0/r1",
+            "o2 r1:D r2:B <-o1/r1",
+            "o1 r1:D r2:N <-o2/r1",
+            "o3 r1:F r2:F <-o2/r2",
+            "o3 r1:∅ r2:∅ <-o2/r2",
+        ]
+    );
+    assert_eq!(
+        actions(&scn, &sol),
+        ["1 r2 o3 after []", "2 r2 o2 after [1]", "3 r1 o1 after [2]", "4 r1 o0 after [2,3]"]
+    );
+}
+
+#[test]
+fn configuration_target_out_of_reach() {
+    let (scn, sources) = scenario(2, 1, None, 0);
+    let t = Table::new().null_reach(1, Unreachable::GoalBlocked);
+    let sol = solve(&scn, &t);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(
+        err.reason(),
+        "`r1 at [0.5, -0.5]` cannot be reached: `r1` cannot reach the target configuration (the configuration \
+         is outside the joint limits or hits something fixed)"
+    );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+mod random {
+    //! On random complete tables: a plan, when there is one, is a valid precedence
+    //! order; and there is none exactly when no acyclic derivation exists at all.
+    use std::collections::BTreeSet;
+
+    use proptest::prelude::*;
+
+    use super::common::{scenario, Table};
+    use declutter::plan::andor::{solve, Item};
+    use declutter::plan::Unreachable;
+
+    /// Per (robot, object): `None` = Null, `Some(mask)` = blocked by the objects in mask.
+    fn table() -> impl Strategy<Value = (usize, usize, Vec<Option<u8>>)> {
+        (2usize..=3, 2usize..=6).prop_flat_map(|(robots, objects)| {
+            let cell = prop_oneof![1 => Just(None), 3 => (0u8..64).prop_map(Some)];
+            (Just(robots), Just(objects), proptest::collection::vec(cell, robots * objects))
+        })
+    }
+
+    /// Least fixed point over the whole table: is the target removable at all?
+    fn solvable(robots: usize, objects: usize, cells: &[Option<u8>]) -> bool {
+        let mut done = BTreeSet::new();
+        loop {
+            let before = done.len();
+            for o in 0..objects {
+                for r in 0..robots {
+                    if let Some(mask) = cells[r * objects + o] {
+                        let so: Vec<usize> = (0..objects).filter(|k| mask & (1 << k) != 0 && *k != o).collect();
+                        if so.iter().all(|k| done.contains(k)) {
+                            done.insert(o);
+                        }
+                    }
+                }
+            }
+            if done.contains(&0) {
+                return true;
+            }
+            if done.len() == before {
+                return false;
+            }
+        }
+    }
+
+    /// Actions per robot, busiest first.
+    fn loads(choice: &[Option<u32>]) -> Vec<usize> {
+        let mut l: Vec<usize> = (0..3).map(|r| choice.iter().filter(|x| **x == Some(r)).count()).collect();
+        l.sort_by(|a, b| b.cmp(a));
+        l
+    }
+
+    /// The smallest (actions, loads) over every choice of at most one robot
+    /// per object that is closed under SO, acyclic and includes the target.
+    fn brute_force(graph: &declutter::plan::andor::Graph, objects: usize) -> (usize, Vec<usize>) {
+        use declutter::resolve::{ObjectId, RobotId};
+        let mut best = (usize::MAX, vec![]);
+        for code in 0..4usize.pow(objects as u32) {
+            let mut choice = vec![None; objects];
+            let mut c = code;
+            for slot in choice.iter_mut() {
+                let v = (c % 4) as u32;
+                c /= 4;
+                if v > 0 {
+                    *slot = Some(v - 1);
+                }
+            }
+            if choice[0].is_none() {
+                continue;
+            }
+            let so = |o: usize| -> Option<Vec<usize>> {
+                let r = choice[o]?;
+                let p = graph.found(RobotId(r), Item::Object(ObjectId(o as u32)))?;
+                Some(p.removals.iter().map(|x| x.index()).collect())
+            };
+            let closed = (0..objects)
+                .all(|o| choice[o].is_none() || so(o).is_some_and(|s| s.iter().all(|k| choice[*k].is_some())));
+            if !closed {
+                continue;
+            }
+            // Acyclic: repeatedly mark the objects whose SO is all marked.
+            let mut done = vec![false; objects];
+            let mut progress = true;
+            while progress {
+                progress = false;
+                for o in 0..objects {
+                    if choice[o].is_some() && !done[o] && so(o).unwrap().iter().all(|k| done[*k]) {
+                        done[o] = true;
+                        progress = true;
+                    }
+                }
+            }
+            if (0..objects).any(|o| choice[o].is_some() && !done[o]) {
+                continue;
+            }
+            let n = choice.iter().filter(|x| x.is_some()).count();
+            best = best.min((n, loads(&choice)));
+        }
+        best
+    }
+
+    proptest! {
+        #[test]
+        fn plans_are_valid_and_complete((robots, objects, cells) in table()) {
+            let (scn, _) = scenario(robots, objects, Some(0), 0);
+            let mut t = Table::new();
+            for r in 0..robots {
+                for o in 0..objects {
+                    t = match cells[r * objects + o] {
+                        None => t.null(r as u32 + 1, o as u32, Unreachable::NoPath),
+                        Some(mask) => {
+                            let so: Vec<u32> = (0..objects as u32).filter(|k| mask & (1 << k) != 0 && *k as usize != o).collect();
+                            t.path(r as u32 + 1, o as u32, &so)
+                        }
+                    };
+                }
+            }
+            let sol = solve(&scn, &t);
+            prop_assert_eq!(sol.outcome.is_ok(), solvable(robots, objects, &cells));
+            // No query is asked twice.
+            let asked = t.asked();
+            let unique: BTreeSet<_> = asked.iter().collect();
+            prop_assert_eq!(unique.len(), asked.len());
+            if let Ok(plan) = &sol.outcome {
+                let last = plan.actions.last().unwrap();
+                prop_assert_eq!(last.item, Item::Object(declutter::resolve::ObjectId(0)));
+                let items: BTreeSet<Item> = plan.actions.iter().map(|a| a.item).collect();
+                prop_assert_eq!(items.len(), plan.actions.len());
+                for (i, a) in plan.actions.iter().enumerate() {
+                    let so = &sol.graph.found(a.robot, a.item).unwrap().removals;
+                    let mut want: Vec<usize> = so
+                        .iter()
+                        .map(|o| plan.actions.iter().position(|b| b.item == Item::Object(o)).unwrap())
+                        .collect();
+                    want.sort();
+                    prop_assert_eq!(&a.after, &want);
+                    prop_assert!(a.after.iter().all(|j| *j < i));
+                }
+                // Rules 1 and 2 against brute force over the answers G holds.
+                let best = brute_force(&sol.graph, objects);
+                let mut mine = vec![None; objects];
+                for a in &plan.actions {
+                    mine[a.item.object().unwrap().index()] = Some(a.robot.0);
+                }
+                prop_assert_eq!((plan.actions.len(), loads(&mine)), best);
+            }
+        }
+    }
+}
+
+#[test]
+fn no_robot_at_all() {
+    let (scn, _) = scenario(0, 1, Some(0), 0);
+    let sol = solve(&scn, &Table::new());
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert_eq!(err.reason(), "`o0` cannot be reached: no robot can grasp `o0` (the scenario declares no robot)");
+}
+
+#[test]
+fn wide_and_is_spread_over_three_robots() {
+    // The target needs twelve objects gone, each free for every robot.
+    let (scn, _) = scenario(3, 13, Some(0), 0);
+    let all: Vec<u32> = (1..13).collect();
+    let mut t = Table::new().path(1, 0, &all).null(2, 0, Unreachable::NoPath).null(3, 0, Unreachable::NoPath);
+    for o in 1..13 {
+        t = t.path(1, o, &[]).path(2, o, &[]).path(3, o, &[]);
+    }
+    let start = std::time::Instant::now();
+    let sol = solve(&scn, &t);
+    assert!(start.elapsed().as_secs() < 20);
+    let plan = sol.outcome.as_ref().unwrap();
+    assert_eq!(plan.actions.len(), 13);
+    let per_robot: Vec<usize> = (0..3).map(|r| plan.actions.iter().filter(|a| a.robot.0 == r).count()).collect();
+    assert_eq!(per_robot, [5, 4, 4]);
+}

@@ -117,6 +117,10 @@ impl Table {
         self.rows.insert((r - 1, None), Ok(so.to_vec()));
         self
     }
+    pub fn null_reach(mut self, r: u32, why: Unreachable) -> Table {
+        self.rows.insert((r - 1, None), Err(why));
+        self
+    }
     /// The queries asked, 1-based robots, in order.
     pub fn asked(&self) -> Vec<(u32, Option<u32>)> {
         self.asked.borrow().iter().map(|(r, o)| (r + 1, *o)).collect()

@@ -7,10 +7,11 @@
 //! by several branches are removed once. Among solutions the rule is, in order:
 //!
 //! 1. fewest actions (distinct items removed, the target included);
-//! 2. fewest actions for the busiest robot (spreads the work);
+//! 2. the robots' loads, busiest first: fewest actions for the busiest robot, then
+//!    for the second busiest, and so on (spreads the work);
 //! 3. lowest robot ids, compared item by item: the target first, then objects by id.
 //!
-//! The search is exhaustive with pruning on rule 1; past [`SEARCH_BUDGET`] partial
+//! The search is exhaustive, pruned on rule 1 and on the busiest robot; past [`SEARCH_BUDGET`] partial
 //! choices it keeps the best found so far, or the first solution found bottom-up.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -34,6 +35,10 @@ pub struct Action {
 }
 
 /// Actions in execution order; the target's is last.
+///
+/// Chosen by the rule of this module: fewest actions, then the most even loads (busiest
+/// robot first), then the lowest robot ids (target first, then objects by id). Among ready
+/// actions the order takes the longest chain still waiting first, then the lowest item.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
     pub actions: Vec<Action>,
@@ -78,7 +83,8 @@ pub fn assign(graph: &Graph) -> Option<Plan> {
     for v in options.values_mut() {
         v.retain(|(_, so)| so.iter().all(|o| solvable.contains_key(&Item::Object(o))));
     }
-    let mut search = Search { options: &options, root, best: None, visited: 0 };
+    let robots = options.values().flatten().map(|(r, _)| *r).collect();
+    let mut search = Search { options: &options, root, robots, best: None, visited: 0 };
     let mut chosen = BTreeMap::new();
     let mut open = BTreeSet::from([root]);
     search.dfs(&mut chosen, &mut open);
@@ -132,23 +138,31 @@ fn bottom_up(options: &Options, solvable: &BTreeMap<Item, (usize, RobotId)>, roo
     choice
 }
 
-/// The comparison key of the assignment rule (smaller is better).
-type Key = (usize, usize, Vec<u32>);
+/// The comparison key of the assignment rule (smaller is better): actions, loads
+/// sorted busiest first (one per robot with any option), robot ids.
+type Key = (usize, Vec<usize>, Vec<u32>);
 
-fn key(choice: &BTreeMap<Item, RobotId>, root: Item) -> Key {
+fn busiest(choice: &BTreeMap<Item, RobotId>) -> usize {
     let mut per_robot: BTreeMap<RobotId, usize> = BTreeMap::new();
     for r in choice.values() {
         *per_robot.entry(*r).or_default() += 1;
     }
-    let busiest = per_robot.values().copied().max().unwrap_or(0);
-    let robots =
+    per_robot.values().copied().max().unwrap_or(0)
+}
+
+fn key(choice: &BTreeMap<Item, RobotId>, root: Item, robots: &BTreeSet<RobotId>) -> Key {
+    let mut loads: Vec<usize> = robots.iter().map(|r| choice.values().filter(|c| *c == r).count()).collect();
+    loads.sort_by(|a, b| b.cmp(a));
+    let ids =
         std::iter::once(choice[&root].0).chain(choice.iter().filter(|(i, _)| **i != root).map(|(_, r)| r.0)).collect();
-    (choice.len(), busiest, robots)
+    (choice.len(), loads, ids)
 }
 
 struct Search<'a> {
     options: &'a Options,
     root: Item,
+    /// Every robot with an option, so loads compare at equal length.
+    robots: BTreeSet<RobotId>,
     best: Option<(Key, BTreeMap<Item, RobotId>)>,
     visited: usize,
 }
@@ -159,15 +173,17 @@ impl Search<'_> {
         if self.visited > SEARCH_BUDGET {
             return;
         }
-        // Every open item costs one more action at least.
+        // Every open item costs one more action at least, and the busiest robot only
+        // gets busier.
         if let Some((best, _)) = &self.best {
-            if chosen.len() + open.len() > best.0 {
+            let actions = chosen.len() + open.len();
+            if actions > best.0 || (actions == best.0 && busiest(chosen) > best.1[0]) {
                 return;
             }
         }
         let Some(item) = open.pop_first() else {
             if acyclic(self.options, chosen) {
-                let k = key(chosen, self.root);
+                let k = key(chosen, self.root, &self.robots);
                 if self.best.as_ref().is_none_or(|(b, _)| k < *b) {
                     self.best = Some((k, chosen.clone()));
                 }

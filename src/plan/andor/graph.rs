@@ -1,6 +1,8 @@
 //! The precedence graph G itself: nodes with per-robot flags, robot-labelled edges,
 //! and the paper's `AnalyzeNode`, `expandNode` and `selectNode` (Algorithms 5, 7, 8).
 
+use std::collections::BTreeMap;
+
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeRef;
 use petgraph::Direction;
@@ -112,6 +114,7 @@ pub struct Graph {
     pub root: NodeIndex,
     /// Every query, in the order asked; answers are memoised by (robot, item).
     pub queries: Vec<Query>,
+    asked: BTreeMap<(RobotId, Item), usize>,
 }
 
 impl Graph {
@@ -125,12 +128,12 @@ impl Graph {
         let branch = item.object().map(ObjectSet::single).unwrap_or_default();
         let flags = robots.into_iter().map(|r| (r, Flag::Empty)).collect();
         let root = g.add_node(Node { item, parent: None, flags, cost: 0, branch });
-        Graph { g, root, queries: Vec::new() }
+        Graph { g, root, queries: Vec::new(), asked: BTreeMap::new() }
     }
 
     /// The memoised answer of robot `robot` for `item`, if asked.
     pub fn answer(&self, robot: RobotId, item: Item) -> Option<&Answer> {
-        self.queries.iter().find(|q| q.robot == robot && q.item == item).map(|q| &q.answer)
+        self.asked.get(&(robot, item)).map(|i| &self.queries[*i].answer)
     }
 
     /// The found path of robot `robot` for `item`, if it was asked and found one.
@@ -174,7 +177,9 @@ impl Graph {
             };
             let asks: Vec<(RobotId, Goal)> = missing.iter().map(|r| (*r, goal.clone())).collect();
             let answers = oracle.find_paths(&asks);
+            assert_eq!(answers.len(), asks.len(), "the oracle answers every query");
             for (robot, answer) in missing.into_iter().zip(answers) {
+                self.asked.insert((robot, item), self.queries.len());
                 self.queries.push(Query { robot, item, answer });
             }
         }

@@ -89,6 +89,9 @@ pub fn describe(u: &Unreachable) -> &'static str {
 }
 
 fn why(reasons: &[(String, Unreachable)]) -> String {
+    if reasons.is_empty() {
+        return "the scenario declares no robot".to_string();
+    }
     reasons.iter().map(|(r, u)| format!("`{r}`: {}", describe(u))).collect::<Vec<_>>().join("; ")
 }
 

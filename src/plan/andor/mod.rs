@@ -6,7 +6,8 @@
 //! (actions in order, each with the actions it waits for) or why there is none
 //! ([`Infeasible`]). The expansion is the paper's Algorithm 4 (`AnalyzeNode`,
 //! `expandNode`, `selectNode`); `checkGraph` is replaced by an exact AND/OR search
-//! (see [`assign`](self::assign)). Answers are asked lazily, only for the nodes the
+//! with a deterministic choice rule (see [`Plan`] and the book's "Reading the AND/OR
+//! graph"). Answers are asked lazily, only for the nodes the
 //! expansion reaches, and memoised per (robot, item), so the result is the same
 //! whatever order or parallelism the oracle uses.
 
