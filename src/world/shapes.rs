@@ -139,7 +139,9 @@ pub(crate) fn resolve_uri(
                 if loader.exists(&c) {
                     return Ok(c);
                 }
-                tried.push(c);
+                if !tried.contains(&c) {
+                    tried.push(c);
+                }
             }
         }
         return Err(tried);
