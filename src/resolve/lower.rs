@@ -7,11 +7,11 @@ use std::path::Path;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use super::load::{dir_name, normalize, Sourced};
-use super::names::did_you_mean;
 use super::units::{convert, integer, positive_length, written, Kind};
 use super::*;
 use crate::diag::{FileId, Loader, SourceMap, Span};
 use crate::syntax::ast;
+use crate::syntax::did_you_mean;
 
 /// Most grasp copies one `repeat` may make.
 pub const MAX_REPEAT: u64 = 10_000;

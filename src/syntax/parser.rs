@@ -16,7 +16,7 @@ type R<T> = Result<T, SyntaxError>;
 
 /// Parses one file. On failure returns the (single) first syntax error.
 pub fn parse(file: FileId, text: &str) -> Result<File, Vec<SyntaxError>> {
-    let cx = Cx { file };
+    let cx = Cx { file, text };
     // Makes pest record the literal tokens (`(`, `,`, `}`) it expected, for the message.
     pest::set_error_detail(true);
     let mut pairs = match Grammar::parse(Rule::file, text) {
@@ -35,14 +35,17 @@ pub fn parse(file: FileId, text: &str) -> Result<File, Vec<SyntaxError>> {
     Ok(File { items, span: whole })
 }
 
-struct Cx {
+struct Cx<'t> {
     file: FileId,
+    text: &'t str,
 }
 
-impl Cx {
+impl Cx<'_> {
+    /// The pair's span without the whitespace and comments pest skips after its last token.
     fn span(&self, p: &Pair<Rule>) -> Span {
         let s = p.as_span();
-        Span::new(self.file, s.start(), s.end())
+        let end = trim_end(self.text.get(s.start()..s.end()).unwrap_or(""));
+        Span::new(self.file, s.start(), s.start() + end)
     }
 
     fn bad(&self, p: &Pair<Rule>) -> SyntaxError {
@@ -328,6 +331,36 @@ impl Cx {
     }
 }
 
+/// Length of `t` without trailing whitespace and `//` comments.
+fn trim_end(t: &str) -> usize {
+    let mut t = t.trim_end();
+    loop {
+        let line_start = t.rfind('\n').map_or(0, |i| i + 1);
+        let line = &t[line_start..];
+        match comment_start(line) {
+            Some(c) => t = t[..line_start + c].trim_end(),
+            None => return t.len(),
+        }
+    }
+}
+
+/// Where a `//` comment starts in one line, ignoring `//` inside strings.
+fn comment_start(line: &str) -> Option<usize> {
+    let mut in_string = false;
+    let mut escaped = false;
+    let bytes = line.as_bytes();
+    for (i, b) in bytes.iter().enumerate() {
+        match b {
+            _ if escaped => escaped = false,
+            b'\\' if in_string => escaped = true,
+            b'"' => in_string = !in_string,
+            b'/' if !in_string && bytes.get(i + 1) == Some(&b'/') => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
 fn is_keyword(r: Rule) -> bool {
     matches!(
         r,
@@ -454,8 +487,19 @@ fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rule>) -> Synt
         }
     }
     collapse(&mut words);
+    // The most specific expectations first; "a declaration" and "the end of the file" last.
+    words.sort_by_key(|w| w.starts_with("a declaration") || w.starts_with("the end"));
     let pos = pos.min(text.len());
     let (found, found_span) = token_at(text, pos);
+    // At the end of the file, point at the last character so the report shows a line.
+    let at_end = found.is_empty();
+    let (pos, found_span) = if at_end {
+        let last = text.trim_end().char_indices().next_back().map_or(0, |(i, _)| i);
+        (last, text[last..].chars().next().map_or(0, char::len_utf8))
+    } else {
+        (pos, found_span)
+    };
+    let after = text.get(pos + found_span..).unwrap_or("");
     let mut expected = join_or(&words);
     if expected.is_empty() {
         expected = "something else".to_string();
@@ -463,8 +507,14 @@ fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rule>) -> Synt
     let raw = text.get(..pos).unwrap_or("");
     let trimmed = raw.trim_end_matches([' ', '\t']);
     let spaced_number = trimmed.len() < raw.len() && trimmed.ends_with(|c: char| c.is_ascii_digit());
-    let help = hint(&found, spaced_number);
-    let label = if expected.len() <= 40 { format!("expected {expected}") } else { "unexpected here".to_string() };
+    let help = hint(&found, spaced_number, &words, after);
+    let label = if at_end {
+        "the file ends after this".to_string()
+    } else if expected.len() <= 40 {
+        format!("expected {expected}")
+    } else {
+        "unexpected here".to_string()
+    };
     SyntaxError::Expected {
         expected,
         found: describe_found(&found),
@@ -474,11 +524,23 @@ fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rule>) -> Synt
     }
 }
 
-fn hint(found: &str, spaced_number: bool) -> Option<String> {
+fn hint(found: &str, spaced_number: bool, words: &[String], after: &str) -> Option<String> {
     if let Some(rest) = found.strip_prefix('"') {
         if !rest.contains('"') {
             return Some("a string must end with `\"` on the same line".to_string());
         }
+    }
+    if words.iter().any(|w| w == "`\"`") {
+        return Some("a string must end with `\"` on the same line".to_string());
+    }
+    let is_word = found.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_');
+    if is_word && after.starts_with('(') && words.iter().any(|w| w.starts_with("a shape")) {
+        let shapes = ["box", "cylinder", "capsule", "sphere", "mesh"];
+        let close = super::did_you_mean(found, shapes);
+        return Some(match close {
+            Some(s) => format!("did you mean `{s}`? The shapes are box, cylinder, capsule, sphere and mesh"),
+            None => "the shapes are box, cylinder, capsule, sphere and mesh".to_string(),
+        });
     }
     if spaced_number && matches!(found, "m" | "cm" | "mm" | "deg" | "rad" | "s" | "ms") {
         return Some("a unit goes right after its number, without a space: `16cm`".to_string());

@@ -1,4 +1,4 @@
-//! Did-you-mean suggestions by edit distance.
+//! Did-you-mean suggestions by edit distance (shared by the syntax and resolve phases).
 
 /// The closest candidate to `name`, if it is close enough to be a likely typo.
 pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
