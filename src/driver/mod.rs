@@ -7,6 +7,7 @@ mod commands;
 mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};
+pub use front::render_report;
 
 /// Output format of a schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
