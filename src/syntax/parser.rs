@@ -6,7 +6,7 @@ use pest_derive::Parser;
 
 use super::ast::*;
 use super::SyntaxError;
-use crate::diag::{FileId, Span};
+use crate::diag::{FileId, Located, Span};
 
 #[derive(Parser)]
 #[grammar = "../grammar/declutter.pest"]
@@ -15,24 +15,75 @@ struct Grammar;
 type R<T> = Result<T, SyntaxError>;
 
 /// Parses one file. On failure returns the (single) first syntax error.
+/// Most syntax errors reported for one file; after that the rest is likely noise.
+const MAX_SYNTAX_ERRORS: usize = 20;
+
+/// Parses one file. On failure returns its syntax errors: after each, parsing resumes
+/// at the next line that starts (in column 0) with a top-level keyword, so independent
+/// mistakes in different declarations are all reported.
 pub fn parse(file: FileId, text: &str) -> Result<File, Vec<SyntaxError>> {
-    let cx = Cx { file, text };
     // Makes pest record the literal tokens (`(`, `,`, `}`) it expected, for the message.
     pest::set_error_detail(true);
-    let mut pairs = match Grammar::parse(Rule::file, text) {
-        Ok(p) => p,
-        Err(e) => return Err(vec![convert_error(file, text, &e)]),
-    };
     let whole = Span::new(file, 0, text.len());
-    let Some(top) = pairs.next() else { return Err(vec![SyntaxError::Internal { span: whole }]) };
-    let mut items = Vec::new();
-    for p in top.into_inner() {
-        match p.as_rule() {
-            Rule::EOI => {}
-            _ => items.push(cx.item(p).map_err(|e| vec![e])?),
+    let mut errors = Vec::new();
+    let mut start = 0;
+    loop {
+        // Blank out what was already reported, keeping byte offsets (and line numbers) intact.
+        let masked: String;
+        let src = if start == 0 {
+            text
+        } else {
+            masked = text
+                .char_indices()
+                .map(|(i, c)| if i >= start || c == '\n' { c.to_string() } else { " ".repeat(c.len_utf8()) })
+                .collect();
+            &masked
+        };
+        match parse_all(file, src) {
+            Ok(items) if errors.is_empty() => return Ok(File { items, span: whole }),
+            Ok(_) => return Err(errors),
+            Err(e) => {
+                let pos = e.primary_span().map_or(text.len(), |s| s.start as usize);
+                errors.push(e);
+                match next_declaration(text, pos) {
+                    Some(next) if errors.len() < MAX_SYNTAX_ERRORS => start = next,
+                    _ => return Err(errors),
+                }
+            }
         }
     }
-    Ok(File { items, span: whole })
+}
+
+fn parse_all(file: FileId, text: &str) -> Result<Vec<Item>, SyntaxError> {
+    let cx = Cx { file, text };
+    let mut pairs = Grammar::parse(Rule::file, text).map_err(|e| convert_error(file, text, &e))?;
+    let whole = Span::new(file, 0, text.len());
+    let top = pairs.next().ok_or(SyntaxError::Internal { span: whole })?;
+    let mut items = Vec::new();
+    for p in top.into_inner() {
+        if p.as_rule() != Rule::EOI {
+            items.push(cx.item(p)?);
+        }
+    }
+    Ok(items)
+}
+
+/// The start of the first line after the one holding `pos` that begins, in column 0,
+/// with a top-level keyword.
+fn next_declaration(text: &str, pos: usize) -> Option<usize> {
+    const KEYWORDS: [&str; 8] = ["scenario", "use", "hand", "robot", "fixed", "object", "planner", "target"];
+    let mut at = text.get(pos..)?.find('\n').map(|i| pos + i + 1)?;
+    while at < text.len() {
+        let line = &text[at..];
+        let starts = KEYWORDS.iter().any(|k| {
+            line.strip_prefix(k).is_some_and(|rest| !rest.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_'))
+        });
+        if starts {
+            return Some(at);
+        }
+        at = line.find('\n').map(|i| at + i + 1)?;
+    }
+    None
 }
 
 struct Cx<'t> {
