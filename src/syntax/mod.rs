@@ -6,6 +6,7 @@
 
 pub mod ast;
 mod error;
+mod expected;
 mod names;
 mod parser;
 
