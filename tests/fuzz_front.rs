@@ -101,10 +101,21 @@ fn loader(root: &[u8]) -> MemLoader {
 /// Runs parse + resolve + check + rendering and checks every span lies in its file.
 fn exercise(bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes);
-    if let Err(errs) = syntax::parse(FileId(0), &text) {
-        for e in &errs {
-            let s = e.primary_span().unwrap();
-            assert!(s.start <= s.end && s.end as usize <= text.len());
+    match syntax::parse(FileId(0), &text) {
+        Err(errs) => {
+            for e in &errs {
+                let s = e.primary_span().unwrap();
+                assert!(s.start <= s.end && s.end as usize <= text.len());
+            }
+        }
+        Ok(file) => {
+            // Declarations lie inside the file, in order, without overlapping.
+            let mut last = 0;
+            for item in &file.items {
+                let s = item_span(item);
+                assert!(last <= s.start && s.start <= s.end && s.end as usize <= text.len());
+                last = s.end;
+            }
         }
     }
     let l = loader(bytes);
@@ -126,6 +137,17 @@ fn exercise(bytes: &[u8]) {
     }
     let mut sources = SourceMap::new();
     let _ = resolve::check(Path::new("examples/fuzz.dcl"), &l, &mut sources);
+}
+
+fn item_span(item: &syntax::ast::Item) -> declutter::diag::Span {
+    use syntax::ast::Item;
+    match item {
+        Item::Scenario { span, .. } | Item::Use { span, .. } | Item::Planner { span, .. } => *span,
+        Item::Hand(h) => h.span,
+        Item::Robot(r) => r.span,
+        Item::Body(b) => b.span,
+        Item::Target(t) => t.span,
+    }
 }
 
 #[derive(Debug, Clone)]
