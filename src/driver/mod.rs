@@ -11,6 +11,7 @@ pub use verify_cmd::parse_schedule;
 mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};
+pub use front::render_report;
 
 /// Output format of a schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

@@ -68,6 +68,9 @@ pub enum ResolveError {
         span: Span,
         #[label("`{name}` is declared here")]
         decl: Option<Span>,
+        /// Where `name` is declared, when that is in another file.
+        #[help]
+        help: Option<String>,
     },
 
     #[error("`{name}` is declared twice")]

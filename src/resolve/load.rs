@@ -50,6 +50,11 @@ impl Walk<'_> {
                 return None;
             }
         };
+        // A byte-order mark is not part of the text; blank it so offsets stay true.
+        let text = match text.strip_prefix('\u{feff}') {
+            Some(rest) => format!("   {rest}"),
+            None => text,
+        };
         let id = self.sources.add(path.display().to_string(), path, text.clone());
         self.done.insert(path.to_path_buf());
         let file = match syntax::parse(id, &text) {

@@ -12,7 +12,6 @@
 mod error;
 mod load;
 mod lower;
-mod names;
 mod scenario;
 mod units;
 mod yaml;
@@ -74,19 +73,30 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
 }
 
 fn finish(root: &Path, p: lower::Partial, mut errors: Vec<ResolveError>) -> Result<Scenario, Vec<ResolveError>> {
-    if p.robots.is_empty() {
-        errors.push(ResolveError::NoRobot { span: p.anchor });
-    }
-    let quiet = errors.iter().any(|e| {
+    // A file that could not be read or parsed would likely have declared the robot or target.
+    let incomplete = errors.iter().any(|e| {
         matches!(
             e,
-            ResolveError::DuplicateTarget { .. }
-                | ResolveError::BadTarget { .. }
-                | ResolveError::UnknownName { .. }
-                | ResolveError::WrongKind { .. }
-                | ResolveError::JointCount { .. }
+            ResolveError::Syntax(_)
+                | ResolveError::Unreadable { .. }
+                | ResolveError::UseCycle { .. }
+                | ResolveError::MissingFile { what: "used", .. }
         )
     });
+    if p.robots.is_empty() && !incomplete {
+        errors.push(ResolveError::NoRobot { span: p.anchor });
+    }
+    let quiet = incomplete
+        || errors.iter().any(|e| {
+            matches!(
+                e,
+                ResolveError::DuplicateTarget { .. }
+                    | ResolveError::BadTarget { .. }
+                    | ResolveError::UnknownName { .. }
+                    | ResolveError::WrongKind { .. }
+                    | ResolveError::JointCount { .. }
+            )
+        });
     match p.target {
         Some(target) if errors.is_empty() => Ok(Scenario {
             name: p.name,

@@ -1,8 +1,8 @@
 //! Quantities -> SI numbers. A bare number is metres, radians or seconds by context.
 
-use super::names::did_you_mean;
 use super::ResolveError;
 use crate::syntax::ast::Quantity;
+use crate::syntax::did_you_mean;
 
 /// Largest length anywhere in a scenario (metres). A robot cell is a few metres across.
 pub const MAX_LENGTH: f64 = 100.0;

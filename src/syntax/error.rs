@@ -19,13 +19,6 @@ pub enum SyntaxError {
         #[help]
         help: Option<String>,
     },
-    /// The file is not valid UTF-8 text.
-    #[error("the file is not UTF-8 text")]
-    #[diagnostic(code(declutter::syntax::not_utf8))]
-    NotUtf8 {
-        #[label("invalid bytes start here")]
-        span: Span,
-    },
     /// The parse tree did not have the shape the grammar promises (a bug in declutter).
     #[error("internal error: unexpected parse tree")]
     #[diagnostic(code(declutter::syntax::internal), help("this is a bug in declutter; please report it"))]
@@ -38,9 +31,7 @@ pub enum SyntaxError {
 impl Located for SyntaxError {
     fn primary_span(&self) -> Option<Span> {
         match self {
-            SyntaxError::Expected { span, .. } | SyntaxError::NotUtf8 { span } | SyntaxError::Internal { span } => {
-                Some(*span)
-            }
+            SyntaxError::Expected { span, .. } | SyntaxError::Internal { span } => Some(*span),
         }
     }
 }

@@ -6,7 +6,10 @@
 
 pub mod ast;
 mod error;
+mod expected;
+mod names;
 mod parser;
 
 pub use error::SyntaxError;
+pub use names::did_you_mean;
 pub use parser::parse;

@@ -5,44 +5,98 @@ use pest::Parser as _;
 use pest_derive::Parser;
 
 use super::ast::*;
+use super::expected::convert_error;
 use super::SyntaxError;
-use crate::diag::{FileId, Span};
+use crate::diag::{FileId, Located, Span};
 
 #[derive(Parser)]
 #[grammar = "../grammar/declutter.pest"]
-struct Grammar;
+pub(super) struct Grammar;
 
 type R<T> = Result<T, SyntaxError>;
 
-/// Parses one file. On failure returns the (single) first syntax error.
+/// Most syntax errors reported for one file; after that the rest is likely noise.
+const MAX_SYNTAX_ERRORS: usize = 20;
+
+/// Parses one file. On failure returns its syntax errors: after each, parsing resumes
+/// at the next line that starts (in column 0) with a top-level keyword, so independent
+/// mistakes in different declarations are all reported.
 pub fn parse(file: FileId, text: &str) -> Result<File, Vec<SyntaxError>> {
-    let cx = Cx { file };
     // Makes pest record the literal tokens (`(`, `,`, `}`) it expected, for the message.
     pest::set_error_detail(true);
-    let mut pairs = match Grammar::parse(Rule::file, text) {
-        Ok(p) => p,
-        Err(e) => return Err(vec![convert_error(file, text, &e)]),
-    };
     let whole = Span::new(file, 0, text.len());
-    let Some(top) = pairs.next() else { return Err(vec![SyntaxError::Internal { span: whole }]) };
-    let mut items = Vec::new();
-    for p in top.into_inner() {
-        match p.as_rule() {
-            Rule::EOI => {}
-            _ => items.push(cx.item(p).map_err(|e| vec![e])?),
+    let mut errors = Vec::new();
+    let mut start = 0;
+    loop {
+        // Blank out what was already reported, keeping byte offsets (and line numbers) intact.
+        let masked: String;
+        let src = if start == 0 {
+            text
+        } else {
+            masked = text
+                .char_indices()
+                .map(|(i, c)| if i >= start || c == '\n' { c.to_string() } else { " ".repeat(c.len_utf8()) })
+                .collect();
+            &masked
+        };
+        match parse_all(file, src) {
+            Ok(items) if errors.is_empty() => return Ok(File { items, span: whole }),
+            Ok(_) => return Err(errors),
+            Err(e) => {
+                let pos = e.primary_span().map_or(text.len(), |s| s.start as usize);
+                errors.push(e);
+                match next_declaration(text, pos) {
+                    Some(next) if errors.len() < MAX_SYNTAX_ERRORS => start = next,
+                    _ => return Err(errors),
+                }
+            }
         }
     }
-    Ok(File { items, span: whole })
 }
 
-struct Cx {
+fn parse_all(file: FileId, text: &str) -> Result<Vec<Item>, SyntaxError> {
+    let cx = Cx { file, text };
+    let mut pairs = Grammar::parse(Rule::file, text).map_err(|e| convert_error(file, text, &e))?;
+    let whole = Span::new(file, 0, text.len());
+    let top = pairs.next().ok_or(SyntaxError::Internal { span: whole })?;
+    let mut items = Vec::new();
+    for p in top.into_inner() {
+        if p.as_rule() != Rule::EOI {
+            items.push(cx.item(p)?);
+        }
+    }
+    Ok(items)
+}
+
+/// The start of the first line after the one holding `pos` that begins, in column 0,
+/// with a top-level keyword.
+fn next_declaration(text: &str, pos: usize) -> Option<usize> {
+    const KEYWORDS: [&str; 8] = ["scenario", "use", "hand", "robot", "fixed", "object", "planner", "target"];
+    let mut at = text.get(pos..)?.find('\n').map(|i| pos + i + 1)?;
+    while at < text.len() {
+        let line = &text[at..];
+        let starts = KEYWORDS.iter().any(|k| {
+            line.strip_prefix(k).is_some_and(|rest| !rest.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_'))
+        });
+        if starts {
+            return Some(at);
+        }
+        at = line.find('\n').map(|i| at + i + 1)?;
+    }
+    None
+}
+
+struct Cx<'t> {
     file: FileId,
+    text: &'t str,
 }
 
-impl Cx {
+impl Cx<'_> {
+    /// The pair's span without the whitespace and comments pest skips after its last token.
     fn span(&self, p: &Pair<Rule>) -> Span {
         let s = p.as_span();
-        Span::new(self.file, s.start(), s.end())
+        let end = trim_end(self.text.get(s.start()..s.end()).unwrap_or(""));
+        Span::new(self.file, s.start(), s.start() + end)
     }
 
     fn bad(&self, p: &Pair<Rule>) -> SyntaxError {
@@ -328,6 +382,36 @@ impl Cx {
     }
 }
 
+/// Length of `t` without trailing whitespace and `//` comments.
+fn trim_end(t: &str) -> usize {
+    let mut t = t.trim_end();
+    loop {
+        let line_start = t.rfind('\n').map_or(0, |i| i + 1);
+        let line = &t[line_start..];
+        match comment_start(line) {
+            Some(c) => t = t[..line_start + c].trim_end(),
+            None => return t.len(),
+        }
+    }
+}
+
+/// Where a `//` comment starts in one line, ignoring `//` inside strings.
+fn comment_start(line: &str) -> Option<usize> {
+    let mut in_string = false;
+    let mut escaped = false;
+    let bytes = line.as_bytes();
+    for (i, b) in bytes.iter().enumerate() {
+        match b {
+            _ if escaped => escaped = false,
+            b'\\' if in_string => escaped = true,
+            b'"' => in_string = !in_string,
+            b'/' if !in_string && bytes.get(i + 1) == Some(&b'/') => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
 fn is_keyword(r: Rule) -> bool {
     matches!(
         r,
@@ -353,176 +437,4 @@ fn is_keyword(r: Rule) -> bool {
             | Rule::k_at
             | Rule::k_rot
     )
-}
-
-/// What a user would call the thing a rule matches.
-fn describe(r: Rule) -> &'static str {
-    match r {
-        Rule::EOI => "the end of the file",
-        Rule::scenario_decl | Rule::k_scenario => "`scenario`",
-        Rule::use_decl | Rule::k_use => "`use`",
-        Rule::hand_decl | Rule::k_hand | Rule::hand_stmt => "`hand`",
-        Rule::robot_decl | Rule::k_robot => "`robot`",
-        Rule::body_decl | Rule::body_kind => "`fixed` or `object`",
-        Rule::planner_decl | Rule::k_planner => "`planner`",
-        Rule::target_decl | Rule::k_target => "`target`",
-        Rule::urdf_stmt | Rule::k_urdf => "`urdf`",
-        Rule::tcp_stmt | Rule::k_tcp => "`tcp`",
-        Rule::base_stmt | Rule::k_base => "`base`",
-        Rule::flange_stmt | Rule::k_flange => "`flange`",
-        Rule::home_stmt | Rule::k_home => "`home`",
-        Rule::drop_stmt | Rule::k_drop => "`drop`",
-        Rule::contact_stmt | Rule::k_allow_contact => "`allow_contact`",
-        Rule::body_block => "a `{` block of shapes and grasps",
-        Rule::part | Rule::shape | Rule::shape_kind => "a shape (box, cylinder, capsule, sphere, mesh)",
-        Rule::arg => "a shape argument (a quantity, `name: quantity` or a \"string\")",
-        Rule::scale | Rule::k_scale => "`scale`",
-        Rule::grasp | Rule::k_grasp => "`grasp`",
-        Rule::approach | Rule::k_approach => "`approach`",
-        Rule::repeat | Rule::k_repeat => "`repeat`",
-        Rule::k_about => "`about`",
-        Rule::axis => "an axis (x, y or z)",
-        Rule::for_hands | Rule::k_for => "`for`",
-        Rule::planner_entry => "a planner setting (`key value`)",
-        Rule::pose | Rule::k_at => "`at`",
-        Rule::k_rot => "`rot`",
-        Rule::tuple => "a tuple like `(x, y, z)`",
-        Rule::list => "a list of joint values like `[0, 90deg]`",
-        Rule::quantity | Rule::number => "a number",
-        Rule::unit => "a unit",
-        Rule::string | Rule::string_raw => "a \"string\"",
-        Rule::ident => "a name",
-        Rule::file | Rule::item => "a declaration (scenario, use, hand, robot, fixed, object, planner, target)",
-        // Silent rules never show up in errors; keep the match exhaustive anyway.
-        _ => "something else",
-    }
-}
-
-/// Top-level declarations are listed as one item, not seven.
-fn collapse(words: &mut Vec<String>) {
-    let top = ["`scenario`", "`use`", "`robot`", "`fixed` or `object`", "`planner`", "`target`"];
-    if top.iter().all(|t| words.iter().any(|w| w == t)) {
-        words.retain(|w| !top.contains(&w.as_str()) && w != "`hand`");
-        words.insert(0, "a declaration (scenario, use, hand, robot, fixed, object, planner, target)".to_string());
-    }
-}
-
-fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
-    let mut pos = match e.location {
-        pest::error::InputLocation::Pos(p) => p,
-        pest::error::InputLocation::Span((s, _)) => s,
-    };
-    let mut words: Vec<String> = Vec::new();
-    if let pest::error::ErrorVariant::ParsingError { positives, .. } = &e.variant {
-        for r in positives {
-            let w = describe(*r).to_string();
-            if !words.contains(&w) {
-                words.push(w);
-            }
-        }
-    }
-    // Rules do not list punctuation; the parse attempts do, sometimes further on (after
-    // skipping whitespace), where the real mistake is.
-    if let Some(attempts) = e.parse_attempts() {
-        let punct: Vec<String> = attempts
-            .expected_tokens()
-            .iter()
-            .map(|t| t.to_string())
-            .filter(|t| !t.is_empty() && t != "//" && t.chars().all(|c| c.is_ascii_punctuation()))
-            .map(|t| format!("`{t}`"))
-            .collect();
-        if attempts.max_position > pos && !punct.is_empty() {
-            pos = attempts.max_position;
-            words.clear();
-        }
-        if attempts.max_position == pos {
-            for w in punct {
-                if !words.contains(&w) {
-                    words.push(w);
-                }
-            }
-        }
-    }
-    // A unit can always follow a number; saying so only helps when nothing else fits.
-    if words.len() > 1 {
-        words.retain(|w| w != "a unit");
-    }
-    // `(` is how a tuple starts, and so on: say it once.
-    for (rule_word, punct) in [("tuple", "`(`"), ("list of joint", "`[`"), ("block", "`{`")] {
-        if words.iter().any(|w| w.contains(rule_word)) {
-            words.retain(|w| w != punct);
-        }
-    }
-    collapse(&mut words);
-    let pos = pos.min(text.len());
-    let (found, found_span) = token_at(text, pos);
-    let mut expected = join_or(&words);
-    if expected.is_empty() {
-        expected = "something else".to_string();
-    }
-    let raw = text.get(..pos).unwrap_or("");
-    let trimmed = raw.trim_end_matches([' ', '\t']);
-    let spaced_number = trimmed.len() < raw.len() && trimmed.ends_with(|c: char| c.is_ascii_digit());
-    let help = hint(&found, spaced_number);
-    let label = if expected.len() <= 40 { format!("expected {expected}") } else { "unexpected here".to_string() };
-    SyntaxError::Expected {
-        expected,
-        found: describe_found(&found),
-        span: Span::new(file, pos, pos + found_span),
-        label,
-        help,
-    }
-}
-
-fn hint(found: &str, spaced_number: bool) -> Option<String> {
-    if let Some(rest) = found.strip_prefix('"') {
-        if !rest.contains('"') {
-            return Some("a string must end with `\"` on the same line".to_string());
-        }
-    }
-    if spaced_number && matches!(found, "m" | "cm" | "mm" | "deg" | "rad" | "s" | "ms") {
-        return Some("a unit goes right after its number, without a space: `16cm`".to_string());
-    }
-    None
-}
-
-fn join_or(words: &[String]) -> String {
-    match words {
-        [] => String::new(),
-        [one] => one.clone(),
-        [init @ .., last] => format!("{} or {}", init.join(", "), last),
-    }
-}
-
-/// The token starting at `pos`, for "found ..." and the label width.
-fn token_at(text: &str, pos: usize) -> (String, usize) {
-    let rest = text.get(pos..).unwrap_or("");
-    let mut chars = rest.char_indices();
-    let Some((_, first)) = chars.next() else { return (String::new(), 0) };
-    let len = if first.is_alphanumeric() || first == '_' || first == '.' {
-        rest.find(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.')).unwrap_or(rest.len())
-    } else if first == '"' {
-        rest[1..].find(['"', '\n']).map_or(rest.len(), |i| i + 2).min(rest.len())
-    } else {
-        first.len_utf8()
-    };
-    let len = len.min(40);
-    // Keep the cut on a char boundary.
-    let mut cut = len;
-    while cut > 0 && !rest.is_char_boundary(cut) {
-        cut -= 1;
-    }
-    (rest[..cut].to_string(), cut)
-}
-
-fn describe_found(tok: &str) -> String {
-    match tok.chars().next() {
-        None => "the end of the file".to_string(),
-        Some('\n') => "the end of the line".to_string(),
-        Some(c) if c.is_ascii_digit() => format!("the number `{tok}`"),
-        Some(c) if c.is_alphabetic() || c == '_' => format!("`{tok}`"),
-        Some('"') => format!("the string {tok}"),
-        Some(c) if c.is_control() => format!("the control character U+{:04X}", c as u32),
-        Some(_) => format!("`{tok}`"),
-    }
 }

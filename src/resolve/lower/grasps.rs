@@ -1,0 +1,119 @@
+//! Grasps: options checked, `repeat` expanded, poses composed into the world frame.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use nalgebra::{Isometry3, Vector3};
+
+use super::{DeclKind, Lower};
+use crate::diag::Span;
+use crate::resolve::units::{convert, integer, written, Kind};
+use crate::resolve::{Body, Grasp, HandId, ResolveError};
+use crate::syntax::ast;
+
+/// Most grasp copies one `repeat` may make.
+pub const MAX_REPEAT: u64 = 10_000;
+
+impl Lower<'_> {
+    pub(super) fn grasps(&mut self, b: &ast::Body, body: &Body) -> Vec<Grasp> {
+        let mut out = Vec::new();
+        let mut seen: HashMap<&str, Span> = HashMap::new();
+        for it in &b.items {
+            let ast::BodyItem::Grasp(g) = it else { continue };
+            if let Some(first) = seen.get(g.name.name.as_str()) {
+                self.errors.push(ResolveError::DuplicateName {
+                    name: g.name.name.clone(),
+                    span: g.name.span,
+                    first: Some(*first),
+                    help: Some(format!("grasp names are unique within `{}`", b.name.name)),
+                });
+                continue;
+            }
+            seen.insert(&g.name.name, g.name.span);
+            let pose = self.pose(&g.pose);
+            let mut approach: Option<(f64, Span)> = None;
+            let mut repeat: Option<((u64, ast::Axis), Span)> = None;
+            let mut hands: Option<(Vec<HandId>, Span)> = None;
+            for o in &g.options {
+                match o {
+                    ast::GraspOption::Approach { length, span } => {
+                        let v = self.ok(convert(length, Kind::Length)).and_then(|v| {
+                            if v < 0.0 {
+                                self.errors.push(ResolveError::OutOfRange {
+                                    what: "an approach".to_string(),
+                                    limit: "zero or more".to_string(),
+                                    value: written(length),
+                                    span: length.span,
+                                    help: Some("the approach is a distance back along the TCP's -z".to_string()),
+                                });
+                                None
+                            } else {
+                                Some(v)
+                            }
+                        });
+                        self.once(&mut approach, "approach", v.unwrap_or(0.0), *span);
+                    }
+                    ast::GraspOption::Repeat { count, axis, span } => {
+                        let n = if count.unit.is_none()
+                            && count.number.trim_start_matches(['+', '-']).chars().all(|c| c == '0' || c == '.')
+                            && count.value == 0.0
+                        {
+                            self.errors.push(ResolveError::RepeatZero { span: count.span });
+                            None
+                        } else {
+                            self.ok(integer(count, "`repeat`", 1, MAX_REPEAT))
+                        };
+                        self.once(&mut repeat, "repeat", (n.unwrap_or(1), *axis), *span);
+                    }
+                    ast::GraspOption::For { hands: hs, span } => {
+                        let mut ids = Vec::new();
+                        for h in hs {
+                            if let Some(i) =
+                                self.lookup(h, |k| if let DeclKind::Hand(i) = k { Some(i) } else { None }, "a hand")
+                            {
+                                let id = HandId(i as u32);
+                                if !ids.contains(&id) {
+                                    ids.push(id);
+                                }
+                            }
+                        }
+                        self.once(&mut hands, "for", ids, *span);
+                    }
+                }
+            }
+            let Some(pose) = pose else { continue };
+            let approach = approach.map_or(0.0, |(a, _)| a);
+            let hands = hands.map(|(h, _)| h);
+            match repeat {
+                None => out.push(Grasp {
+                    name: g.name.name.clone(),
+                    span: g.span,
+                    pose_object_tcp: pose,
+                    pose_world_tcp: body.pose_world_body * pose,
+                    approach,
+                    hands,
+                }),
+                Some(((n, axis), _)) => {
+                    let axis = match axis {
+                        ast::Axis::X => Vector3::x(),
+                        ast::Axis::Y => Vector3::y(),
+                        ast::Axis::Z => Vector3::z(),
+                    };
+                    for k in 0..n {
+                        let angle = 2.0 * PI * k as f64 / n as f64;
+                        let pose_object_tcp = Isometry3::rotation(axis * angle) * pose;
+                        out.push(Grasp {
+                            name: format!("{}#{k}", g.name.name),
+                            span: g.span,
+                            pose_object_tcp,
+                            pose_world_tcp: body.pose_world_body * pose_object_tcp,
+                            approach,
+                            hands: hands.clone(),
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
