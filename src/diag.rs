@@ -239,10 +239,35 @@ impl RenderOptions {
     }
 }
 
+/// Longest source line a graphical report is drawn for: miette cannot pad beyond
+/// 65535 columns, so a label on a longer line is reported as `file:line:col: message`.
+const MAX_DRAWN_LINE: usize = 10_000;
+
+fn drawable(sources: &SourceMap, err: &dyn Diagnostic, primary: Option<Span>) -> bool {
+    let Some(file) = primary.and_then(|s| sources.get(s.file)) else { return true };
+    err.labels().into_iter().flatten().all(|l| {
+        let at = l.offset().min(file.text.len());
+        let start = file.text.get(..at).and_then(|t| t.rfind('\n')).map_or(0, |i| i + 1);
+        let end = file.text.get(at..).and_then(|t| t.find('\n')).map_or(file.text.len(), |i| at + i);
+        end - start <= MAX_DRAWN_LINE
+    })
+}
+
 /// Renders one diagnostic with the source of the file its primary span points into.
 pub fn render_one<E: Diagnostic + Located>(sources: &SourceMap, err: &E, opts: RenderOptions) -> String {
-    let src =
-        err.primary_span().and_then(|s| sources.get(s.file)).map(|f| NamedSource::new(f.name.clone(), f.text.clone()));
+    let primary = err.primary_span();
+    if !drawable(sources, err, primary) {
+        let place = primary
+            .and_then(|s| Some((sources.get(s.file)?.name.clone(), sources.line_col(s)?)))
+            .map_or_else(String::new, |(n, (l, c))| format!("{n}:{l}:{c}: "));
+        let code = err.code().map(|c| format!(" [{c}]")).unwrap_or_default();
+        let mut out = format!("error{code}: {place}{err}\n");
+        if let Some(h) = err.help() {
+            out.push_str(&format!("  help: {h}\n"));
+        }
+        return out;
+    }
+    let src = primary.and_then(|s| sources.get(s.file)).map(|f| NamedSource::new(f.name.clone(), f.text.clone()));
     let wrapped = WithSource { inner: err, src };
     let theme = if opts.color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
     let handler = GraphicalReportHandler::new_themed(theme).with_width(opts.width).with_links(false);

@@ -1,95 +1,112 @@
-//! `check` and `resolve`: the front end on the real file system, reports to stderr.
+//! `check` and `resolve`: the front end and the world on the real file system,
+//! reports to stderr.
 
 use std::path::Path;
 
-use super::{GlobalOptions, EXIT_INPUT, EXIT_OK};
-use crate::diag::{render_all, FsLoader, RenderOptions, SourceMap};
-use crate::resolve;
+use miette::Diagnostic;
 
-fn options(g: &GlobalOptions) -> RenderOptions {
-    RenderOptions { color: g.color, ..RenderOptions::plain() }
+use super::pipeline::{fail, render_options};
+use super::{GlobalOptions, EXIT_OK};
+use crate::diag::{render_all, render_one, FsLoader, Located, RenderOptions, SourceMap, Span};
+use crate::resolve::{self, JointInfo};
+use crate::world::{self, WorldOptions};
+
+/// Renders resolve errors, sorted by position (long lines fall back to one-line reports).
+pub fn render_report(sources: &SourceMap, errs: &[resolve::ResolveError], opts: RenderOptions) -> String {
+    render_all(sources, errs, opts)
 }
 
-fn report(sources: &SourceMap, errs: &[resolve::ResolveError], g: &GlobalOptions) -> u8 {
-    eprint!("{}", render_report(sources, errs, options(g)));
-    let n = errs.len();
-    eprintln!("error: {n} problem{} found", if n == 1 { "" } else { "s" });
-    EXIT_INPUT
+/// An object no robot can grasp: the scenario is valid, but planning will need another way.
+#[derive(Debug, thiserror::Error, Diagnostic)]
+#[error("no robot can grasp `{name}`")]
+#[diagnostic(
+    code(declutter::world::ungraspable),
+    severity(Warning),
+    help("no grasp has an inverse-kinematics solution clear of fixed bodies for any robot; move the object, add grasps, or add a robot")
+)]
+pub struct Ungraspable {
+    pub name: String,
+    #[label("declared here")]
+    pub span: Span,
+}
+
+impl Located for Ungraspable {
+    fn primary_span(&self) -> Option<Span> {
+        Some(self.span)
+    }
+}
+
+fn plural(n: usize, w: &str) -> String {
+    format!("{n} {w}{}", if n == 1 { "" } else { "s" })
 }
 
 pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     let mut sources = SourceMap::new();
-    match resolve::check(file, &FsLoader, &mut sources) {
-        Ok(s) => {
-            let plural = |n: usize, w: &str| format!("{n} {w}{}", if n == 1 { "" } else { "s" });
-            let what = match (&s.name, s.library) {
-                (_, true) => format!("{} (a library: no target)", file.display()),
-                (Some(n), _) => n.clone(),
-                (None, _) => file.display().to_string(),
-            };
-            eprintln!(
-                "ok: {what} — {}, {}, {}, {}",
-                plural(s.robots, "robot"),
-                plural(s.objects, "object"),
-                plural(s.fixed, "fixed body").replace("bodys", "bodies"),
-                plural(s.grasps, "grasp")
-            );
-            EXIT_OK
-        }
-        Err(errs) => report(&sources, &errs, g),
+    let summary = match resolve::check(file, &FsLoader, &mut sources) {
+        Ok(s) => s,
+        Err(errs) => return fail(&sources, &errs, g),
+    };
+    let counts = format!(
+        "{}, {}, {}, {}",
+        plural(summary.robots, "robot"),
+        plural(summary.objects, "object"),
+        plural(summary.fixed, "fixed body").replace("bodys", "bodies"),
+        plural(summary.grasps, "grasp")
+    );
+    if summary.library {
+        eprintln!("ok: {} (a library: no target) — {counts}", file.display());
+        return EXIT_OK;
     }
+    let mut sources = SourceMap::new();
+    let scn = match resolve::resolve(file, &FsLoader, &mut sources) {
+        Ok(s) => s,
+        Err(errs) => return fail(&sources, &errs, g),
+    };
+    let opts = WorldOptions { package_path: g.package_path.clone(), ..WorldOptions::default() };
+    let w = match world::build(&scn, &opts, &FsLoader) {
+        Ok(w) => w,
+        Err(errs) => return fail(&sources, &errs, g),
+    };
+    let report = world::report(&w);
+    let name = scn.name.clone().unwrap_or_else(|| file.display().to_string());
+    eprintln!("ok: {name} — {counts}");
+    for o in &report.objects {
+        let total = scn.object(o.object).grasps.len();
+        let per_robot: Vec<String> =
+            o.robots.iter().map(|r| format!("{} {}/{total}", r.name, r.grasps.len())).collect();
+        eprintln!("  {}: grasps reachable by {}", o.name, per_robot.join(", "));
+    }
+    for o in report.unreachable() {
+        let warning = Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span };
+        eprint!("{}", render_one(&sources, &warning, render_options(g)));
+    }
+    EXIT_OK
 }
 
 pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
     let mut sources = SourceMap::new();
-    match resolve::resolve(file, &FsLoader, &mut sources) {
-        Ok(s) => {
-            print!("{}", resolve::to_yaml(&s));
-            EXIT_OK
-        }
-        Err(errs) => report(&sources, &errs, g),
-    }
-}
-
-/// Longest source line a graphical report is drawn for; miette cannot pad beyond
-/// 65535 columns, so errors on longer lines are printed as `file:line:col: message`.
-const MAX_DRAWN_LINE: usize = 10_000;
-
-/// Renders errors like [`render_all`], falling back to one-line reports for labels on
-/// absurdly long lines (which the graphical renderer cannot draw).
-pub fn render_report(sources: &SourceMap, errs: &[resolve::ResolveError], opts: RenderOptions) -> String {
-    use crate::diag::Located;
-    use miette::Diagnostic;
-    let drawable = |e: &resolve::ResolveError| {
-        let Some(file) = e.primary_span().and_then(|s| sources.get(s.file)) else { return true };
-        e.labels().into_iter().flatten().all(|l| {
-            let at = l.offset().min(file.text.len());
-            let start = file.text[..at].rfind('\n').map_or(0, |i| i + 1);
-            let end = file.text[at..].find('\n').map_or(file.text.len(), |i| at + i);
-            end - start <= MAX_DRAWN_LINE
-        })
+    let scn = match resolve::resolve(file, &FsLoader, &mut sources) {
+        Ok(s) => s,
+        Err(errs) => return fail(&sources, &errs, g),
     };
-    if errs.iter().all(drawable) {
-        return render_all(sources, errs, opts);
-    }
-    let mut order: Vec<&resolve::ResolveError> = errs.iter().collect();
-    order.sort_by_key(|e| e.primary_span());
-    let mut out = String::new();
-    for e in order {
-        if drawable(e) {
-            out.push_str(&crate::diag::render_one(sources, e, opts));
-        } else {
-            let place = e
-                .primary_span()
-                .and_then(|s| Some((sources.get(s.file)?.name.clone(), sources.line_col(s)?)))
-                .map_or_else(String::new, |(n, (l, c))| format!("{n}:{l}:{c}: "));
-            let code = e.code().map(|c| format!(" [{c}]")).unwrap_or_default();
-            out.push_str(&format!("error{code}: {place}{e}\n"));
-            if let Some(h) = e.help() {
-                out.push_str(&format!("  help: {h}\n"));
-            }
+    let opts = WorldOptions { package_path: g.package_path.clone(), ..WorldOptions::default() };
+    let mut joints = Vec::new();
+    let mut errs = Vec::new();
+    for r in &scn.robots {
+        match world::load_kinematics(&r.urdf, r.flange.as_ref(), &opts, &FsLoader) {
+            Ok(k) => joints.push(
+                k.joint_names()
+                    .iter()
+                    .zip(k.limits())
+                    .map(|(n, &(lower, upper))| JointInfo { name: n.clone(), lower, upper })
+                    .collect(),
+            ),
+            Err(e) => errs.extend(e),
         }
-        out.push('\n');
     }
-    out
+    if !errs.is_empty() {
+        return fail(&sources, &errs, g);
+    }
+    print!("{}", resolve::to_yaml_with_joints(&scn, &joints));
+    EXIT_OK
 }

@@ -18,7 +18,7 @@ mod yaml;
 
 pub use error::ResolveError;
 pub use scenario::*;
-pub use yaml::to_yaml;
+pub use yaml::{to_yaml, to_yaml_with_joints, JointInfo};
 
 use std::path::Path;
 

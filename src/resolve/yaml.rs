@@ -8,8 +8,22 @@ use std::fmt::Write as _;
 
 use super::*;
 
+/// One actuated joint of a loaded robot, for the listing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointInfo {
+    pub name: String,
+    pub lower: f64,
+    pub upper: f64,
+}
+
 /// Renders a scenario as YAML (deterministic: declaration order, fixed rounding).
 pub fn to_yaml(s: &Scenario) -> String {
+    to_yaml_with_joints(s, &[])
+}
+
+/// Like [`to_yaml`], listing under each robot the joints its URDF declares
+/// (`joints[i]` for robot `i`; the world stage loads them, this stage only prints).
+pub fn to_yaml_with_joints(s: &Scenario, joints: &[Vec<JointInfo>]) -> String {
     let mut w = String::new();
     let hand_name = |h: HandId| s.hands.get(h.index()).map_or_else(String::new, |h| h.name.clone());
     match &s.name {
@@ -25,7 +39,7 @@ pub fn to_yaml(s: &Scenario) -> String {
     }
 
     header(&mut w, 0, "robots", s.robots.is_empty());
-    for r in &s.robots {
+    for (i, r) in s.robots.iter().enumerate() {
         item(&mut w, 2, "name", &q(&r.name));
         line(&mut w, 4, "urdf", &q(&path(&r.urdf)));
         line(&mut w, 4, "base", &pose(&r.pose_world_base));
@@ -35,7 +49,13 @@ pub fn to_yaml(s: &Scenario) -> String {
         line(&mut w, 4, "drop", &r.drop.as_ref().map_or_else(|| "null".to_string(), |d| nums(&d.values)));
         let pairs: Vec<String> = r.allow_contact.iter().map(|p| format!("[{}, {}]", q(&p.a), q(&p.b))).collect();
         line(&mut w, 4, "allow_contact", &format!("[{}]", pairs.join(", ")));
-        // The joints and their limits go here once the URDF is loaded (the world stage).
+        if let Some(js) = joints.get(i) {
+            header(&mut w, 4, "joints", js.is_empty());
+            for j in js {
+                item(&mut w, 6, "name", &q(&j.name));
+                line(&mut w, 8, "limits", &nums(&[j.lower, j.upper]));
+            }
+        }
     }
 
     header(&mut w, 0, "fixed", s.fixed.is_empty());
