@@ -5,6 +5,15 @@
 //! objects into an assignment of remove-actions. The two meet only through
 //! [`Oracle`], so the graph logic can be tested on hand-built answers.
 
+mod knn;
+mod prm;
+mod roadmap;
+mod search;
+mod space;
+
+pub use prm::{PrmOptions, RobotPlanner};
+pub use space::{Mode, Space};
+
 use serde::Serialize;
 
 use crate::resolve::{ObjectId, RobotId};
