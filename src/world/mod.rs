@@ -7,15 +7,110 @@
 //! objects does it touch?". Geometry code never sees spans; errors name ids and the
 //! CLI maps them back to declarations.
 
+mod build;
+mod chain;
+mod check;
+mod error;
+mod grasps;
+mod ik;
 mod labels;
+mod shapes;
+mod urdf;
 
+pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
+pub use check::{CheckCtx, CONTACT_TOLERANCE};
+pub use error::WorldError;
+pub use grasps::{report, GraspReport, ObjectReach, RobotReach};
 pub use labels::{Blocker, Check, ObjectSet};
+pub use shapes::MeshMode;
 
 use std::ops::{Deref, DerefMut};
 
 use serde::Serialize;
 
-use crate::resolve::{ObjectId, Pose};
+use crate::resolve::{ObjectId, Pose, RobotId, Scenario};
+
+/// A scenario made queryable: kinematic chains, shapes and the labelled check.
+/// Built once by [`build`]; immutable, `Send + Sync`, shared by planner threads.
+pub struct World {
+    scenario: Scenario,
+    robots: Vec<build::RobotModel>,
+    /// Per object: its parts in the body frame, for carrying it.
+    object_parts: Vec<Vec<shapes::Placed>>,
+}
+
+impl World {
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+    /// Number of actuated joints.
+    pub fn dof(&self, r: RobotId) -> usize {
+        self.robots[r.index()].chain.dof()
+    }
+    /// Actuated joint names, in configuration order.
+    pub fn joint_names(&self, r: RobotId) -> &[String] {
+        &self.robots[r.index()].chain.joint_names
+    }
+    /// (lower, upper) per actuated joint. Continuous joints (and revolute joints
+    /// without finite limits) get (-2π, 2π).
+    pub fn limits(&self, r: RobotId) -> &[(f64, f64)] {
+        &self.robots[r.index()].chain.limits
+    }
+    pub fn home(&self, r: RobotId) -> &Config {
+        &self.robots[r.index()].home
+    }
+    /// The `drop` configuration, or `home` when none is given.
+    pub fn drop_config(&self, r: RobotId) -> &Config {
+        &self.robots[r.index()].drop
+    }
+    /// Name of the link the hand is attached to.
+    pub fn flange_link(&self, r: RobotId) -> &str {
+        let c = &self.robots[r.index()].chain;
+        &c.links[c.flange].name
+    }
+    /// Flange pose in the world frame.
+    pub fn fk_flange(&self, r: RobotId, q: &[f64]) -> Pose {
+        let m = &self.robots[r.index()];
+        m.pose_world_base * m.chain.fk_flange(q)
+    }
+    /// TCP pose in the world frame (the flange when the robot has no hand).
+    pub fn fk_tcp(&self, r: RobotId, q: &[f64]) -> Pose {
+        let m = &self.robots[r.index()];
+        m.pose_world_base * m.chain.fk_flange(q) * m.pose_flange_tcp
+    }
+    /// World poses of every link of the robot (URDF link names), for drawing and tests.
+    pub fn fk_links(&self, r: RobotId, q: &[f64]) -> Vec<(String, Pose)> {
+        let m = &self.robots[r.index()];
+        let mut out = vec![Pose::identity(); m.chain.links.len()];
+        m.chain.fk_into(q, &mut out);
+        m.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), m.pose_world_base * p)).collect()
+    }
+    /// Up to `max_solutions` distinct in-limit configurations putting the TCP at
+    /// `pose_world_tcp`, deterministic for a given `seed`.
+    pub fn ik(&self, r: RobotId, pose_world_tcp: &Pose, seed: u64, max_solutions: usize) -> Vec<Config> {
+        ik::solve(&self.robots[r.index()], pose_world_tcp, seed, max_solutions)
+    }
+    /// The paper's `selectGrasps` for one robot and object.
+    pub fn select_grasps(&self, r: RobotId, o: ObjectId) -> Vec<GraspConfig> {
+        grasps::select(self, r, o)
+    }
+    /// The object as carried after grasping it at `q_grasp`.
+    pub fn held(&self, r: RobotId, o: ObjectId, q_grasp: &[f64]) -> Held {
+        let pose_world_flange = self.fk_flange(r, q_grasp);
+        let pose_world_object = self.scenario.object(o).body.pose_world_body;
+        Held { object: o, pose_flange_object: pose_world_flange.inverse() * pose_world_object }
+    }
+    /// The labelled check of one configuration.
+    pub fn check(&self, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
+        check::check(self, r, q, ctx)
+    }
+    /// Checks the straight joint-space segment `a`..`b`, no joint moving more than
+    /// `step` between checked configurations, both ends included: the union of the
+    /// labels, or the first block.
+    pub fn check_segment(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+        check::check_segment(self, r, a, b, step, ctx)
+    }
+}
 
 /// A robot configuration: one value per actuated joint, in chain order (radians or metres).
 #[derive(Clone, Debug, PartialEq, Serialize, Default)]

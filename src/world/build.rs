@@ -1,0 +1,486 @@
+//! `Scenario` -> [`World`]: load URDFs and meshes, attach hands, place bodies, check
+//! the joint vectors, find self-collision pairs worth checking, and check that
+//! `home` and `drop` are free.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use nalgebra::Isometry3;
+
+use super::chain::{Chain, ChainError};
+use super::check::{self, CheckCtx, Entry, Owner, Scene};
+use super::error::WorldError;
+use super::shapes::{resolve_uri, Geometry, MeshCache, MeshMode, Placed};
+use super::urdf::{self, GeomKind, Model, UrdfProblem};
+use super::{Check, Config, World};
+use crate::diag::{Loader, Span};
+use crate::resolve::{FileRef, FixedId, JointValues, ObjectId, Pose, RobotId, Scenario, Shape, Target};
+
+/// How to build a world.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldOptions {
+    /// Directories searched for `package://NAME/...`, after the URDF's folder and its ancestors.
+    pub package_path: Vec<PathBuf>,
+    pub mesh_mode: MeshMode,
+    /// Random configurations sampled per robot to find link pairs that always or
+    /// never collide (MoveIt setup assistant style); 0 checks every non-adjacent pair.
+    pub self_collision_samples: usize,
+}
+
+impl Default for WorldOptions {
+    fn default() -> Self {
+        WorldOptions { package_path: Vec::new(), mesh_mode: MeshMode::ConvexHull, self_collision_samples: 2000 }
+    }
+}
+
+/// A rigid set of collision shapes moving with one link.
+pub(crate) struct RBody {
+    pub name: String,
+    pub link: usize,
+    pub shapes: Range<usize>,
+    /// False for the root link and links fixed to it: never checked against the scene.
+    pub moving: bool,
+    /// Rigid with the flange (the hand, the flange link): ignores a carried object.
+    pub holds: bool,
+}
+
+/// One shape of a robot, posed in its link's frame.
+pub(crate) struct RShape {
+    pub body: usize,
+    pub placed: Placed,
+}
+
+pub(crate) struct RobotModel {
+    pub name: String,
+    pub chain: Chain,
+    pub pose_world_base: Pose,
+    pub pose_flange_tcp: Pose,
+    pub shapes: Vec<RShape>,
+    pub bodies: Vec<RBody>,
+    pub self_pairs: Vec<(usize, usize)>,
+    pub scene: Scene,
+    pub home: Config,
+    pub drop: Config,
+}
+
+/// A hand: its shapes in the flange frame, by link.
+struct HandModel {
+    bodies: Vec<(String, Vec<Placed>)>,
+}
+
+/// Builds the world, or returns every error found (sorted by position).
+pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result<World, Vec<WorldError>> {
+    let mut errs = Vec::new();
+    let mut meshes = MeshCache::new(loader, opts.mesh_mode);
+    let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
+
+    let hands: Vec<Option<HandModel>> = scn.hands.iter().map(|h| ctx.load_hand(&h.urdf, &mut meshes)).collect();
+    let mut robots = Vec::new();
+    for (i, r) in scn.robots.iter().enumerate() {
+        let Some((chain, mut shapes, mut bodies)) = ctx.load_arm(&r.name, &r.urdf, r.flange.as_ref(), &mut meshes)
+        else {
+            continue;
+        };
+        let root_group = chain.links[0].group;
+        let flange_group = chain.links[chain.flange].group;
+        let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
+        if let Some((h, hm)) = hand {
+            let moving = flange_group != root_group;
+            for (name, placed) in &hm.bodies {
+                let full = format!("{}/{}", scn.hands[h.index()].name, name);
+                push_body(&mut shapes, &mut bodies, &full, chain.flange, placed.clone(), moving, true);
+            }
+        }
+        let what = |n: &str| n.to_string();
+        let home = ctx.joint_values(r.name.as_str(), &what("home"), &r.home, &chain);
+        let drop = match &r.drop {
+            Some(d) => ctx.joint_values(&r.name, &what("drop"), d, &chain),
+            None => home.clone(),
+        };
+        if let Target::Config { robot, q, .. } = &scn.target {
+            if robot.index() == i {
+                ctx.joint_values(&r.name, "target", q, &chain);
+            }
+        }
+        let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
+        robots.push(RobotModel {
+            name: r.name.clone(),
+            chain,
+            pose_world_base: r.pose_world_base,
+            pose_flange_tcp,
+            shapes,
+            bodies,
+            self_pairs: Vec::new(),
+            scene: Scene::new(Vec::new()),
+            home: Config(home.unwrap_or_default()),
+            drop: Config(drop.unwrap_or_default()),
+        });
+    }
+
+    // Bodies of the scene.
+    let mut statics = Vec::new();
+    for (i, f) in scn.fixed.iter().enumerate() {
+        for part in &f.parts {
+            if let Some(p) = ctx.part(&part.shape, &part.pose_world_part, &f.name, &mut meshes) {
+                statics.push(Entry::new(Owner::Fixed(FixedId(i as u32)), p));
+            }
+        }
+    }
+    let mut object_parts = Vec::new();
+    for (i, o) in scn.objects.iter().enumerate() {
+        let mut parts = Vec::new();
+        for part in &o.body.parts {
+            if let Some(p) = ctx.part(&part.shape, &part.pose_body_part, &o.body.name, &mut meshes) {
+                let world =
+                    Placed { shape: p.shape.clone(), pose: super::shapes::to_ppose(&o.body.pose_world_body) * p.pose };
+                statics.push(Entry::new(Owner::Object(ObjectId(i as u32)), world));
+                parts.push(p);
+            }
+        }
+        object_parts.push(parts);
+    }
+    if !errs.is_empty() {
+        errs.sort_by_key(diag_key);
+        return Err(errs);
+    }
+
+    // Each robot sees the others standing at home.
+    let mut at_home: Vec<Vec<Entry>> = Vec::new();
+    for (ri, m) in robots.iter().enumerate() {
+        let mut links = vec![Isometry3::identity(); m.chain.links.len()];
+        m.chain.fk_into(&m.home, &mut links);
+        let entries = m
+            .shapes
+            .iter()
+            .map(|s| {
+                let pose = super::shapes::to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
+                Entry::new(Owner::Robot(RobotId(ri as u32), s.body), Placed { shape: s.placed.shape.clone(), pose })
+            })
+            .collect();
+        at_home.push(entries);
+    }
+    for (ri, m) in robots.iter_mut().enumerate() {
+        let mut entries: Vec<Entry> = statics.clone();
+        for (other, e) in at_home.iter().enumerate() {
+            if other != ri {
+                entries.extend(e.iter().cloned());
+            }
+        }
+        m.scene = Scene::new(entries);
+        let allowed: Vec<(String, String)> =
+            scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
+        m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
+    }
+
+    let world = World { scenario: scn.clone(), robots, object_parts };
+    // `home` and `drop` must be free of fixed things (touching objects is fine).
+    let mut errs = Vec::new();
+    for (ri, r) in scn.robots.iter().enumerate() {
+        let id = RobotId(ri as u32);
+        let mut cases = vec![("home", world.home(id).clone(), r.home.span)];
+        if let Some(d) = &r.drop {
+            cases.push(("drop", world.drop_config(id).clone(), d.span));
+        }
+        for (what, q, span) in cases {
+            if let Check::Blocked(b) = world.check(id, &q, &CheckCtx::new()) {
+                errs.push(WorldError::ConfigCollides {
+                    robot: r.name.clone(),
+                    what: what.into(),
+                    reason: check::describe(&world, id, &b),
+                    span,
+                });
+            }
+        }
+    }
+    if errs.is_empty() {
+        Ok(world)
+    } else {
+        Err(errs)
+    }
+}
+
+/// A robot's kinematics and collision model loaded on its own, without a scenario:
+/// for listing joints (`declutter resolve`) and for testing URDF files.
+pub struct RobotKinematics {
+    chain: Chain,
+    bodies: Vec<String>,
+    shapes: usize,
+}
+
+impl RobotKinematics {
+    /// Actuated joints, in configuration order.
+    pub fn joint_names(&self) -> &[String] {
+        &self.chain.joint_names
+    }
+    /// (lower, upper) per actuated joint.
+    pub fn limits(&self) -> &[(f64, f64)] {
+        &self.chain.limits
+    }
+    /// Every link, root first.
+    pub fn link_names(&self) -> Vec<&str> {
+        self.chain.links.iter().map(|l| l.name.as_str()).collect()
+    }
+    pub fn flange(&self) -> &str {
+        &self.chain.links[self.chain.flange].name
+    }
+    /// Links with collision geometry.
+    pub fn collision_links(&self) -> &[String] {
+        &self.bodies
+    }
+    /// Number of collision shapes over all links.
+    pub fn shape_count(&self) -> usize {
+        self.shapes
+    }
+    /// Pose of every link in the robot's base frame.
+    pub fn fk_links(&self, q: &[f64]) -> Vec<(String, Pose)> {
+        let mut out = vec![Pose::identity(); self.chain.links.len()];
+        self.chain.fk_into(q, &mut out);
+        self.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), p)).collect()
+    }
+}
+
+/// Loads one robot URDF (and its collision meshes) by itself.
+pub fn load_kinematics(
+    urdf: &FileRef,
+    flange: Option<&(String, Span)>,
+    opts: &WorldOptions,
+    loader: &dyn Loader,
+) -> Result<RobotKinematics, Vec<WorldError>> {
+    let mut errs = Vec::new();
+    let mut meshes = MeshCache::new(loader, opts.mesh_mode);
+    let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
+    let arm = ctx.load_arm("robot", urdf, flange, &mut meshes);
+    match arm {
+        Some((chain, shapes, bodies)) if errs.is_empty() => {
+            Ok(RobotKinematics { chain, bodies: bodies.into_iter().map(|b| b.name).collect(), shapes: shapes.len() })
+        }
+        _ => Err(errs),
+    }
+}
+
+fn diag_key(e: &WorldError) -> Option<Span> {
+    crate::diag::Located::primary_span(e)
+}
+
+fn push_body(
+    shapes: &mut Vec<RShape>,
+    bodies: &mut Vec<RBody>,
+    name: &str,
+    link: usize,
+    placed: Vec<Placed>,
+    moving: bool,
+    holds: bool,
+) {
+    if placed.is_empty() {
+        return;
+    }
+    let start = shapes.len();
+    let body = bodies.len();
+    shapes.extend(placed.into_iter().map(|placed| RShape { body, placed }));
+    bodies.push(RBody { name: name.to_string(), link, shapes: start..shapes.len(), moving, holds });
+}
+
+struct LoadCtx<'a> {
+    loader: &'a dyn Loader,
+    opts: &'a WorldOptions,
+    errs: &'a mut Vec<WorldError>,
+}
+
+impl LoadCtx<'_> {
+    /// The arm's chain and its own collision bodies (no hand).
+    fn load_arm(
+        &mut self,
+        robot: &str,
+        urdf: &FileRef,
+        flange: Option<&(String, Span)>,
+        meshes: &mut MeshCache,
+    ) -> Option<(Chain, Vec<RShape>, Vec<RBody>)> {
+        let model = self.load_urdf(urdf)?;
+        let chain = match Chain::new(&model, flange.map(|f| f.0.as_str())) {
+            Ok(c) => c,
+            Err(ChainError::UnknownFlange) => {
+                let (link, span) = flange.cloned().unwrap_or_default();
+                self.errs.push(WorldError::UnknownFlange { robot: robot.to_string(), link, span });
+                return None;
+            }
+            Err(ChainError::Structure(reason)) => {
+                self.errs.push(WorldError::UrdfStructure { path: urdf.written.clone(), reason, span: urdf.span });
+                return None;
+            }
+        };
+        let mut shapes = Vec::new();
+        let mut bodies = Vec::new();
+        let root_group = chain.links[0].group;
+        let flange_group = chain.links[chain.flange].group;
+        for (li, link) in chain.links.iter().enumerate() {
+            let ml = &model.links[chain.model_index[li]];
+            let placed = self.geoms(urdf, &ml.name, &ml.collisions, meshes);
+            let (moving, holds) = (link.group != root_group, link.group == flange_group);
+            push_body(&mut shapes, &mut bodies, &link.name, li, placed, moving, holds);
+        }
+        Some((chain, shapes, bodies))
+    }
+
+    fn load_urdf(&mut self, file: &FileRef) -> Option<Model> {
+        let path = file.written.clone();
+        let text = match self.loader.read_to_string(&file.path) {
+            Ok(t) => t,
+            Err(e) => {
+                self.errs.push(WorldError::UrdfRead { path, reason: e.to_string(), span: file.span });
+                return None;
+            }
+        };
+        match urdf::parse(&text) {
+            Ok(m) => Some(m),
+            Err(p) => {
+                self.errs.push(match p {
+                    UrdfProblem::Parse(reason) => WorldError::UrdfParse { path, reason, span: file.span },
+                    UrdfProblem::Empty => WorldError::UrdfEmpty { path, span: file.span },
+                    UrdfProblem::Structure(reason) => WorldError::UrdfStructure { path, reason, span: file.span },
+                });
+                None
+            }
+        }
+    }
+
+    fn load_hand(&mut self, file: &FileRef, meshes: &mut MeshCache) -> Option<HandModel> {
+        let model = self.load_urdf(file)?;
+        let chain = match Chain::new(&model, None) {
+            Ok(c) => c,
+            Err(ChainError::Structure(reason)) => {
+                self.errs.push(WorldError::UrdfStructure { path: file.written.clone(), reason, span: file.span });
+                return None;
+            }
+            Err(ChainError::UnknownFlange) => return None,
+        };
+        // A hand is rigid: every joint at its frozen value (0 clamped into its limits).
+        let q: Vec<f64> = chain.limits.iter().map(|(lo, hi)| 0f64.clamp(*lo, *hi)).collect();
+        let mut poses = vec![Isometry3::identity(); chain.links.len()];
+        chain.fk_into(&q, &mut poses);
+        let mut bodies = Vec::new();
+        for (li, link) in chain.links.iter().enumerate() {
+            let ml = &model.links[chain.model_index[li]];
+            let geoms: Vec<urdf::Geom> = ml
+                .collisions
+                .iter()
+                .map(|g| urdf::Geom { pose_link_geom: poses[li] * g.pose_link_geom, kind: g.kind.clone() })
+                .collect();
+            let placed = self.geoms(file, &link.name, &geoms, meshes);
+            if !placed.is_empty() {
+                bodies.push((link.name.clone(), placed));
+            }
+        }
+        Some(HandModel { bodies })
+    }
+
+    fn geoms(&mut self, file: &FileRef, link: &str, geoms: &[urdf::Geom], meshes: &mut MeshCache) -> Vec<Placed> {
+        let dir = file.path.parent().unwrap_or(Path::new(""));
+        let mut out = Vec::new();
+        for g in geoms {
+            let made = match &g.kind {
+                GeomKind::Box(s) => meshes.make(&Geometry::Box(*s), &g.pose_link_geom),
+                GeomKind::Cylinder { radius, length } => {
+                    meshes.make(&Geometry::Cylinder { radius: *radius, length: *length }, &g.pose_link_geom)
+                }
+                GeomKind::Capsule { radius, length } => {
+                    meshes.make(&Geometry::Capsule { radius: *radius, length: *length }, &g.pose_link_geom)
+                }
+                GeomKind::Sphere(r) => meshes.make(&Geometry::Sphere(*r), &g.pose_link_geom),
+                GeomKind::Mesh { uri, scale } => match resolve_uri(uri, dir, &self.opts.package_path, self.loader) {
+                    Ok(path) => meshes.make(&Geometry::Mesh { path: &path, scale: *scale }, &g.pose_link_geom),
+                    Err(tried) => {
+                        self.errs.push(WorldError::MeshMissing {
+                            link: link.to_string(),
+                            uri: uri.clone(),
+                            tried: tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+                            span: file.span,
+                        });
+                        continue;
+                    }
+                },
+            };
+            match made {
+                Ok(p) => out.push(p),
+                Err(reason) => self.errs.push(WorldError::MeshLoad {
+                    link: link.to_string(),
+                    uri: match &g.kind {
+                        GeomKind::Mesh { uri, .. } => uri.clone(),
+                        _ => String::new(),
+                    },
+                    reason,
+                    span: file.span,
+                }),
+            }
+        }
+        out
+    }
+
+    fn part(&mut self, shape: &Shape, pose: &Pose, body: &str, meshes: &mut MeshCache) -> Option<Placed> {
+        let made = match shape {
+            Shape::Box { size } => meshes.make(&Geometry::Box(*size), pose),
+            Shape::Cylinder { radius, length } => {
+                meshes.make(&Geometry::Cylinder { radius: *radius, length: *length }, pose)
+            }
+            Shape::Capsule { radius, length } => {
+                meshes.make(&Geometry::Capsule { radius: *radius, length: *length }, pose)
+            }
+            Shape::Sphere { radius } => meshes.make(&Geometry::Sphere(*radius), pose),
+            Shape::Mesh { file, scale } => {
+                if !self.loader.exists(&file.path) {
+                    self.errs.push(WorldError::MeshMissing {
+                        link: body.to_string(),
+                        uri: file.written.clone(),
+                        tried: file.path.display().to_string(),
+                        span: file.span,
+                    });
+                    return None;
+                }
+                match meshes.make(&Geometry::Mesh { path: &file.path, scale: *scale }, pose) {
+                    Ok(p) => Ok(p),
+                    Err(reason) => {
+                        self.errs.push(WorldError::MeshLoad {
+                            link: body.to_string(),
+                            uri: file.written.clone(),
+                            reason,
+                            span: file.span,
+                        });
+                        return None;
+                    }
+                }
+            }
+        };
+        made.ok()
+    }
+
+    /// Checks length and limits; returns the values when they fit.
+    fn joint_values(&mut self, robot: &str, what: &str, v: &JointValues, chain: &Chain) -> Option<Vec<f64>> {
+        if v.values.len() != chain.dof() {
+            self.errs.push(WorldError::JointCount {
+                robot: robot.into(),
+                what: what.into(),
+                expected: chain.dof(),
+                got: v.values.len(),
+                joints: chain.joint_names.join(", "),
+                span: v.span,
+            });
+            return None;
+        }
+        let mut ok = true;
+        for (index, ((x, (lo, hi)), name)) in v.values.iter().zip(&chain.limits).zip(&chain.joint_names).enumerate() {
+            if !(x.is_finite() && *x >= lo - check::LIMIT_SLACK && *x <= hi + check::LIMIT_SLACK) {
+                ok = false;
+                self.errs.push(WorldError::JointLimit {
+                    robot: robot.into(),
+                    what: what.into(),
+                    joint: name.clone(),
+                    value: *x,
+                    lower: *lo,
+                    upper: *hi,
+                    span: v.span,
+                    index,
+                });
+            }
+        }
+        ok.then(|| v.values.clone())
+    }
+}

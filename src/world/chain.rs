@@ -1,0 +1,256 @@
+//! Kinematic chains: a [`Model`] flattened into links in topological order, with
+//! each joint's value drawn from the configuration, a mimic leader, or frozen.
+//!
+//! The configuration is the actuated (non-fixed, non-mimic) joints on the path
+//! from the root to the flange, in that order. Movable joints off that path (a
+//! gripper's fingers, say) stay at 0 clamped into their limits; mimic joints
+//! follow their leader wherever they are.
+
+use nalgebra::{Isometry3, Matrix6xX, Translation3, UnitQuaternion, Vector3};
+
+use super::urdf::{Model, Motion};
+
+/// Where a link's joint value comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Source {
+    Fixed,
+    /// `q[i] * mult + offset`.
+    Active {
+        index: usize,
+        mult: f64,
+        offset: f64,
+    },
+    Frozen(f64),
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct ChainLink {
+    pub name: String,
+    /// Index of the parent link in [`Chain::links`] (always smaller).
+    pub parent: Option<usize>,
+    pub pose_parent_joint: Isometry3<f64>,
+    pub motion: Motion,
+    pub source: Source,
+    /// Links joined by joints that never move share a group.
+    pub group: usize,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct Chain {
+    pub links: Vec<ChainLink>,
+    pub joint_names: Vec<String>,
+    pub limits: Vec<(f64, f64)>,
+    pub flange: usize,
+    /// Links from the root to the flange, root first.
+    pub path: Vec<usize>,
+    /// For each link, the index in `Model::links` it came from.
+    pub model_index: Vec<usize>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum ChainError {
+    UnknownFlange,
+    Structure(String),
+}
+
+impl Chain {
+    /// Builds the chain ending at `flange` (by default the deepest link, first in file order on ties).
+    pub fn new(model: &Model, flange: Option<&str>) -> Result<Chain, ChainError> {
+        // Topological order, children in file order.
+        let mut order = Vec::with_capacity(model.links.len());
+        let mut stack = vec![model.root];
+        while let Some(l) = stack.pop() {
+            order.push(l);
+            for &j in model.links[l].child_joints.iter().rev() {
+                stack.push(model.joints[j].child);
+            }
+        }
+        let mut pos = vec![usize::MAX; model.links.len()];
+        for (i, &l) in order.iter().enumerate() {
+            pos[l] = i;
+        }
+        let parent_of = |l: usize| model.links[l].parent_joint.map(|j| model.joints[j].parent);
+        let depth = |mut l: usize| {
+            let mut d = 0;
+            while let Some(p) = parent_of(l) {
+                d += 1;
+                l = p;
+            }
+            d
+        };
+        let flange_model = match flange {
+            Some(name) => model.link_index(name).ok_or(ChainError::UnknownFlange)?,
+            None => {
+                let mut best = model.root;
+                for &l in &order {
+                    if depth(l) > depth(best) {
+                        best = l;
+                    }
+                }
+                best
+            }
+        };
+        let mut path_model = vec![flange_model];
+        while let Some(p) = parent_of(*path_model.last().unwrap_or(&model.root)) {
+            path_model.push(p);
+        }
+        path_model.reverse();
+
+        // Actuated joints: on the path, movable, not mimic.
+        let mut joint_names = Vec::new();
+        let mut limits = Vec::new();
+        let mut active_of_joint = vec![None; model.joints.len()];
+        for &l in &path_model {
+            if let Some(j) = model.links[l].parent_joint {
+                let mj = &model.joints[j];
+                if mj.motion != Motion::Fixed && mj.mimic.is_none() {
+                    active_of_joint[j] = Some(joint_names.len());
+                    joint_names.push(mj.name.clone());
+                    limits.push((mj.lower, mj.upper));
+                }
+            }
+        }
+        // Resolve every joint's value source, following mimic chains.
+        let resolve = |j: usize| -> Result<Source, ChainError> {
+            let (mut mult, mut offset, mut cur) = (1.0, 0.0, j);
+            for _ in 0..=model.joints.len() {
+                let mj = &model.joints[cur];
+                if mj.motion == Motion::Fixed {
+                    return Ok(Source::Frozen(offset));
+                }
+                if let Some(index) = active_of_joint[cur] {
+                    return Ok(Source::Active { index, mult, offset });
+                }
+                match &mj.mimic {
+                    Some((leader, m, o)) => {
+                        offset += mult * o;
+                        mult *= m;
+                        cur = model.joint_index(leader).ok_or_else(|| {
+                            ChainError::Structure(format!("joint `{}` mimics an undefined joint", mj.name))
+                        })?;
+                    }
+                    None => return Ok(Source::Frozen(mult * 0f64.clamp(mj.lower, mj.upper) + offset)),
+                }
+            }
+            Err(ChainError::Structure(format!("the mimic joints around `{}` form a cycle", model.joints[j].name)))
+        };
+
+        let mut links = Vec::with_capacity(order.len());
+        let mut groups: Vec<usize> = Vec::with_capacity(order.len());
+        for (i, &l) in order.iter().enumerate() {
+            let ml = &model.links[l];
+            let (parent, pose, motion, source) = match ml.parent_joint {
+                None => (None, Isometry3::identity(), Motion::Fixed, Source::Fixed),
+                Some(j) => {
+                    let mj = &model.joints[j];
+                    let src = if mj.motion == Motion::Fixed { Source::Fixed } else { resolve(j)? };
+                    (Some(pos[mj.parent]), mj.pose_parent_joint, mj.motion, src)
+                }
+            };
+            let group = match (parent, source) {
+                (Some(p), Source::Fixed | Source::Frozen(_)) => groups[p],
+                _ => i,
+            };
+            groups.push(group);
+            links.push(ChainLink { name: ml.name.clone(), parent, pose_parent_joint: pose, motion, source, group });
+        }
+        Ok(Chain {
+            path: path_model.iter().map(|&l| pos[l]).collect(),
+            flange: pos[flange_model],
+            links,
+            joint_names,
+            limits,
+            model_index: order,
+        })
+    }
+
+    pub fn dof(&self) -> usize {
+        self.joint_names.len()
+    }
+
+    fn joint_value(src: Source, q: &[f64]) -> f64 {
+        match src {
+            Source::Fixed => 0.0,
+            Source::Active { index, mult, offset } => q[index] * mult + offset,
+            Source::Frozen(v) => v,
+        }
+    }
+
+    fn motion_pose(motion: Motion, v: f64) -> Isometry3<f64> {
+        match motion {
+            Motion::Fixed => Isometry3::identity(),
+            Motion::Rotate(axis) => {
+                Isometry3::from_parts(Translation3::identity(), UnitQuaternion::from_axis_angle(&axis, v))
+            }
+            Motion::Slide(axis) => {
+                Isometry3::from_parts(Translation3::from(axis.into_inner() * v), UnitQuaternion::identity())
+            }
+        }
+    }
+
+    /// Poses of every link in the base frame, written into `out` (length = number of links).
+    pub fn fk_into(&self, q: &[f64], out: &mut [Isometry3<f64>]) {
+        for (i, l) in self.links.iter().enumerate() {
+            out[i] = match l.parent {
+                None => Isometry3::identity(),
+                Some(p) => {
+                    let joint = out[p] * l.pose_parent_joint;
+                    match l.motion {
+                        Motion::Fixed => joint,
+                        m => joint * Self::motion_pose(m, Self::joint_value(l.source, q)),
+                    }
+                }
+            };
+        }
+    }
+
+    /// The flange pose in the base frame, walking only the path.
+    pub fn fk_flange(&self, q: &[f64]) -> Isometry3<f64> {
+        let mut t = Isometry3::identity();
+        for &l in &self.path[1..] {
+            let link = &self.links[l];
+            t *= link.pose_parent_joint;
+            if link.motion != Motion::Fixed {
+                t *= Self::motion_pose(link.motion, Self::joint_value(link.source, q));
+            }
+        }
+        t
+    }
+
+    /// TCP pose (base frame) and its geometric Jacobian, one column per actuated joint,
+    /// rows (linear; angular).
+    pub fn jacobian(&self, q: &[f64], pose_flange_tcp: &Isometry3<f64>, jac: &mut Matrix6xX<f64>) -> Isometry3<f64> {
+        jac.fill(0.0);
+        let tcp = self.fk_flange(q) * pose_flange_tcp;
+        let p_tcp = tcp.translation.vector;
+        let mut t = Isometry3::identity();
+        for &l in &self.path[1..] {
+            let link = &self.links[l];
+            t *= link.pose_parent_joint;
+            if let Source::Active { index, mult, .. } = link.source {
+                let origin = t.translation.vector;
+                match link.motion {
+                    Motion::Rotate(axis) => {
+                        let w: Vector3<f64> = t.rotation * axis.into_inner();
+                        let v = w.cross(&(p_tcp - origin));
+                        for k in 0..3 {
+                            jac[(k, index)] += v[k] * mult;
+                            jac[(k + 3, index)] += w[k] * mult;
+                        }
+                    }
+                    Motion::Slide(axis) => {
+                        let v: Vector3<f64> = t.rotation * axis.into_inner();
+                        for k in 0..3 {
+                            jac[(k, index)] += v[k] * mult;
+                        }
+                    }
+                    Motion::Fixed => {}
+                }
+            }
+            if link.motion != Motion::Fixed {
+                t *= Self::motion_pose(link.motion, Self::joint_value(link.source, q));
+            }
+        }
+        tcp
+    }
+}

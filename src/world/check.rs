@@ -1,0 +1,378 @@
+//! The labelled collision check: at a configuration, is the robot blocked by
+//! something fixed, and which removable objects does it touch?
+//!
+//! Broad phase: the AABB of each moving body against a parry BVH of everything
+//! static for that robot (fixed bodies, removable objects, other robots at home).
+//! Narrow phase: `intersection_test`, then — only for pairs that intersect —
+//! `contact` to measure the depth: contacts shallower than [`CONTACT_TOLERANCE`]
+//! are not collisions, so a can standing on the table does not touch it.
+
+use std::cell::{Cell, RefCell};
+
+use nalgebra::Isometry3;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose as PPose;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d_f64::query;
+use parry3d_f64::shape::{Shape, SharedShape};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::build::RobotModel;
+use super::shapes::{to_ppose, Placed};
+use super::{Blocker, Check, Held, ObjectSet, World};
+use crate::resolve::{FixedId, ObjectId, RobotId};
+
+/// Penetration depth (metres) below which two shapes are not in collision. The same
+/// everywhere: robot vs scene, self-collision, carried object.
+pub const CONTACT_TOLERANCE: f64 = 1e-3;
+
+/// Joint values this far outside a limit still count as inside (rounding of written degrees).
+pub(crate) const LIMIT_SLACK: f64 = 1e-9;
+
+/// What one query holds constant across its checks.
+#[derive(Debug, Default)]
+pub struct CheckCtx {
+    /// Objects treated as not there (removed, or the one being grasped on the approach).
+    pub absent: ObjectSet,
+    /// The object carried in the hand, if any.
+    pub held: Option<Held>,
+    /// Incremented once per configuration checked.
+    pub checks: Cell<u64>,
+}
+
+impl CheckCtx {
+    pub fn new() -> Self {
+        CheckCtx::default()
+    }
+    pub fn with_absent(absent: ObjectSet) -> Self {
+        CheckCtx { absent, ..CheckCtx::default() }
+    }
+    pub fn with_held(absent: ObjectSet, held: Held) -> Self {
+        CheckCtx { absent, held: Some(held), ..CheckCtx::default() }
+    }
+    /// Configurations checked so far.
+    pub fn count(&self) -> u64 {
+        self.checks.get()
+    }
+}
+
+/// Who a static shape belongs to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Owner {
+    Fixed(FixedId),
+    Object(ObjectId),
+    /// Another robot's body, at that robot's home.
+    Robot(RobotId, usize),
+}
+
+#[derive(Clone)]
+pub(crate) struct Entry {
+    pub owner: Owner,
+    pub shape: SharedShape,
+    pub pose: PPose,
+    pub aabb: Aabb,
+}
+
+impl Entry {
+    pub fn new(owner: Owner, p: Placed) -> Entry {
+        let aabb = p.shape.compute_aabb(&p.pose);
+        Entry { owner, shape: p.shape, pose: p.pose, aabb }
+    }
+}
+
+/// The static world one robot is checked against.
+pub(crate) struct Scene {
+    bvh: Bvh,
+    pub entries: Vec<Entry>,
+}
+
+impl Scene {
+    pub fn new(entries: Vec<Entry>) -> Scene {
+        let aabbs: Vec<Aabb> = entries.iter().map(|e| e.aabb).collect();
+        let bvh = if aabbs.is_empty() { Bvh::new() } else { Bvh::from_leaves(BvhBuildStrategy::default(), &aabbs) };
+        Scene { bvh, entries }
+    }
+}
+
+/// True when the shapes overlap deeper than the tolerance.
+#[inline]
+pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
+    match query::intersection_test(p1, s1, p2, s2) {
+        Ok(i) if !i.intersecting => false,
+        _ => match query::contact(p1, s1, p2, s2, 0.0) {
+            Ok(Some(c)) => c.dist < -CONTACT_TOLERANCE,
+            Ok(None) => false,
+            // No depth query for this pair: trust the intersection test.
+            Err(_) => true,
+        },
+    }
+}
+
+/// Per-thread buffers, so a check allocates nothing once warm.
+#[derive(Default)]
+struct Scratch {
+    links: Vec<Isometry3<f64>>,
+    link_pose: Vec<PPose>,
+    shape_pose: Vec<PPose>,
+    shape_aabb: Vec<Aabb>,
+    body_aabb: Vec<Aabb>,
+    held_pose: Vec<PPose>,
+    held_aabb: Vec<Aabb>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// Poses and AABBs of every shape of the robot at `q` (world frame).
+fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
+    let n = m.chain.links.len();
+    s.links.resize(n, Isometry3::identity());
+    m.chain.fk_into(q, &mut s.links);
+    s.link_pose.clear();
+    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+    s.shape_pose.clear();
+    s.shape_aabb.clear();
+    for sh in &m.shapes {
+        let pose = s.link_pose[m.bodies[sh.body].link] * sh.placed.pose;
+        s.shape_aabb.push(sh.placed.shape.compute_aabb(&pose));
+        s.shape_pose.push(pose);
+    }
+    s.body_aabb.clear();
+    for b in &m.bodies {
+        let mut aabb = s.shape_aabb[b.shapes.start];
+        for a in &s.shape_aabb[b.shapes.clone()] {
+            aabb.merge(a);
+        }
+        s.body_aabb.push(aabb);
+    }
+}
+
+pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
+    ctx.checks.set(ctx.checks.get() + 1);
+    let m = &w.robots[r.index()];
+    assert_eq!(q.len(), m.chain.dof(), "configuration of robot `{}` has the wrong length", m.name);
+    for ((v, (lo, hi)), name) in q.iter().zip(&m.chain.limits).zip(&m.chain.joint_names) {
+        if !(*v >= lo - LIMIT_SLACK && *v <= hi + LIMIT_SLACK) {
+            return Check::Blocked(Blocker::JointLimit { joint: name.clone(), value: *v });
+        }
+    }
+    SCRATCH.with(|cell| {
+        let mut s = cell.borrow_mut();
+        pose_robot(m, q, &mut s);
+        check_posed(w, m, ctx, &mut s)
+    })
+}
+
+fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Check {
+    let held_obj = ctx.held.as_ref().map(|h| h.object);
+    let mut labels = ObjectSet::new();
+    // Robot bodies against the static scene.
+    for (bi, b) in m.bodies.iter().enumerate() {
+        if !b.moving {
+            continue;
+        }
+        for leaf in m.scene.bvh.intersect_aabb(&s.body_aabb[bi]) {
+            let e = &m.scene.entries[leaf as usize];
+            if let Owner::Object(o) = e.owner {
+                if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
+                    continue;
+                }
+            }
+            let hit = b.shapes.clone().any(|si| {
+                s.shape_aabb[si].intersects(&e.aabb)
+                    && collide(&s.shape_pose[si], &*m.shapes[si].placed.shape.0, &e.pose, &*e.shape.0)
+            });
+            if hit {
+                match e.owner {
+                    Owner::Fixed(body) => return Check::Blocked(Blocker::Fixed { body, link: b.name.clone() }),
+                    Owner::Robot(other, ob) => {
+                        return Check::Blocked(Blocker::Robot {
+                            other,
+                            link: b.name.clone(),
+                            other_link: w.robots[other.index()].bodies[ob].name.clone(),
+                        })
+                    }
+                    Owner::Object(o) => labels.insert(o),
+                }
+            }
+        }
+    }
+    // Self-collision.
+    for &(a, b) in &m.self_pairs {
+        if !s.body_aabb[a].intersects(&s.body_aabb[b]) {
+            continue;
+        }
+        if bodies_collide(m, s, a, b) {
+            return Check::Blocked(Blocker::SelfCollision {
+                link_a: m.bodies[a].name.clone(),
+                link_b: m.bodies[b].name.clone(),
+            });
+        }
+    }
+    // The carried object.
+    if let Some(h) = &ctx.held {
+        let parts = &w.object_parts[h.object.index()];
+        let flange = s.link_pose[m.chain.flange] * to_ppose(&h.pose_flange_object);
+        s.held_pose.clear();
+        s.held_aabb.clear();
+        for p in parts {
+            let pose = flange * p.pose;
+            s.held_aabb.push(p.shape.compute_aabb(&pose));
+            s.held_pose.push(pose);
+        }
+        for (pi, p) in parts.iter().enumerate() {
+            for leaf in m.scene.bvh.intersect_aabb(&s.held_aabb[pi]) {
+                let e = &m.scene.entries[leaf as usize];
+                if let Owner::Object(o) = e.owner {
+                    if o == h.object || ctx.absent.contains(o) || labels.contains(o) {
+                        continue;
+                    }
+                }
+                if !collide(&s.held_pose[pi], &*p.shape.0, &e.pose, &*e.shape.0) {
+                    continue;
+                }
+                match e.owner {
+                    Owner::Fixed(body) => return Check::Blocked(Blocker::HeldFixed { object: h.object, body }),
+                    Owner::Robot(other, ob) => {
+                        return Check::Blocked(Blocker::HeldRobot {
+                            object: h.object,
+                            other,
+                            other_link: w.robots[other.index()].bodies[ob].name.clone(),
+                        })
+                    }
+                    Owner::Object(o) => labels.insert(o),
+                }
+            }
+            for (bi, b) in m.bodies.iter().enumerate() {
+                if b.holds || !s.body_aabb[bi].intersects(&s.held_aabb[pi]) {
+                    continue;
+                }
+                let hit = b
+                    .shapes
+                    .clone()
+                    .any(|si| collide(&s.shape_pose[si], &*m.shapes[si].placed.shape.0, &s.held_pose[pi], &*p.shape.0));
+                if hit {
+                    return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
+                }
+            }
+        }
+    }
+    Check::Touches(labels)
+}
+
+fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
+    m.bodies[a].shapes.clone().any(|i| {
+        m.bodies[b].shapes.clone().any(|j| {
+            s.shape_aabb[i].intersects(&s.shape_aabb[j])
+                && collide(
+                    &s.shape_pose[i],
+                    &*m.shapes[i].placed.shape.0,
+                    &s.shape_pose[j],
+                    &*m.shapes[j].placed.shape.0,
+                )
+        })
+    })
+}
+
+pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+    let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
+    let n = if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 };
+    let mut q = a.to_vec();
+    let mut out = ObjectSet::new();
+    for i in 0..=n {
+        let t = i as f64 / n as f64;
+        for (k, v) in q.iter_mut().enumerate() {
+            *v = if i == n { b[k] } else { a[k] + (b[k] - a[k]) * t };
+        }
+        match check(w, r, &q, ctx) {
+            Check::Blocked(bl) => return Check::Blocked(bl),
+            Check::Touches(l) => out.union_with(&l),
+        }
+    }
+    Check::Touches(out)
+}
+
+/// Body pairs worth checking for self-collision: not both static, not rigidly
+/// joined, not adjacent, not allowed by the scenario, and (when sampling) neither
+/// colliding in nearly every sample nor in none.
+pub(crate) fn self_pairs(
+    m: &RobotModel,
+    allowed: &[(String, String)],
+    samples: usize,
+    seed: u64,
+) -> Vec<(usize, usize)> {
+    let links = &m.chain.links;
+    let group = |b: usize| links[m.bodies[b].link].group;
+    let adjacent = |ga: usize, gb: usize| {
+        links[gb].parent.map(|p| links[p].group) == Some(ga) || links[ga].parent.map(|p| links[p].group) == Some(gb)
+    };
+    let is_allowed = |a: &str, b: &str| {
+        let hit = |x: &str, y: &str| x == y || y.split('/').next() == Some(x);
+        allowed.iter().any(|(x, y)| (hit(x, a) && hit(y, b)) || (hit(x, b) && hit(y, a)))
+    };
+    let mut pairs = Vec::new();
+    for a in 0..m.bodies.len() {
+        for b in a + 1..m.bodies.len() {
+            let (ga, gb) = (group(a), group(b));
+            if (!m.bodies[a].moving && !m.bodies[b].moving) || ga == gb || adjacent(ga, gb) {
+                continue;
+            }
+            if is_allowed(&m.bodies[a].name, &m.bodies[b].name) {
+                continue;
+            }
+            pairs.push((a, b));
+        }
+    }
+    if samples == 0 || pairs.is_empty() {
+        return pairs;
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f_c011 ^ seed);
+    let mut counts = vec![0usize; pairs.len()];
+    let mut s = Scratch::default();
+    let mut q = vec![0.0; m.chain.dof()];
+    for _ in 0..samples {
+        for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
+            *v = if hi > lo { rng.random_range(*lo..*hi) } else { *lo };
+        }
+        pose_robot(m, &q, &mut s);
+        for (k, &(a, b)) in pairs.iter().enumerate() {
+            if s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b) {
+                counts[k] += 1;
+            }
+        }
+    }
+    let always = (ALWAYS_FRACTION_NUM * samples as f64).ceil() as usize;
+    pairs.into_iter().zip(counts).filter(|&(_, c)| c > 0 && c < always).map(|(p, _)| p).collect()
+}
+
+/// A pair is "always in collision" at this fraction of samples (MoveIt's default).
+const ALWAYS_FRACTION_NUM: f64 = 0.95;
+
+/// A one-line account of a block, for error messages.
+pub(crate) fn describe(w: &World, r: RobotId, b: &Blocker) -> String {
+    let scn = w.scenario();
+    let _ = r;
+    match b {
+        Blocker::Fixed { body, link } => format!("link `{link}` hits fixed body `{}`", scn.fixed[body.index()].name),
+        Blocker::HeldFixed { object, body } => format!(
+            "carried object `{}` hits fixed body `{}`",
+            scn.object(*object).body.name,
+            scn.fixed[body.index()].name
+        ),
+        Blocker::Robot { other, link, other_link } => {
+            format!("link `{link}` hits link `{other_link}` of robot `{}` (at its home)", scn.robot(*other).name)
+        }
+        Blocker::HeldRobot { object, other, other_link } => format!(
+            "carried object `{}` hits link `{other_link}` of robot `{}`",
+            scn.object(*object).body.name,
+            scn.robot(*other).name
+        ),
+        Blocker::SelfCollision { link_a, link_b } => format!("links `{link_a}` and `{link_b}` collide"),
+        Blocker::HeldSelf { object, link } => {
+            format!("carried object `{}` hits link `{link}`", scn.object(*object).body.name)
+        }
+        Blocker::JointLimit { joint, value } => format!("joint `{joint}` = {value} is outside its limits"),
+    }
+}

@@ -1,0 +1,138 @@
+//! Errors of the world phase. Each carries the span of the scenario line that
+//! named the offending file or joint vector; URDF-internal positions are given by
+//! link and joint names.
+
+use miette::Diagnostic;
+use thiserror::Error;
+
+use crate::diag::{Located, Span};
+
+/// An error building the [`World`](super::World) from a scenario.
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+pub enum WorldError {
+    #[error("cannot read URDF `{path}`: {reason}")]
+    #[diagnostic(code(declutter::world::urdf_read))]
+    UrdfRead {
+        path: String,
+        reason: String,
+        #[label("named here")]
+        span: Span,
+    },
+
+    #[error("URDF `{path}` is not valid: {reason}")]
+    #[diagnostic(code(declutter::world::urdf_parse))]
+    UrdfParse {
+        path: String,
+        reason: String,
+        #[label("named here")]
+        span: Span,
+    },
+
+    #[error("URDF `{path}` has no links")]
+    #[diagnostic(
+        code(declutter::world::urdf_empty),
+        help("a `.xacro` file must be expanded first: `xacro robot.urdf.xacro > robot.urdf`")
+    )]
+    UrdfEmpty {
+        path: String,
+        #[label("this file defines no <link>")]
+        span: Span,
+    },
+
+    #[error("URDF `{path}`: {reason}")]
+    #[diagnostic(code(declutter::world::urdf_structure))]
+    UrdfStructure {
+        path: String,
+        reason: String,
+        #[label("in this robot model")]
+        span: Span,
+    },
+
+    #[error("mesh `{uri}` of link `{link}` not found (looked at {tried})")]
+    #[diagnostic(
+        code(declutter::world::mesh_missing),
+        help("`package://NAME/...` is searched in the URDF's folder and its ancestors, then in `--package-path` directories and DECLUTTER_PACKAGE_PATH")
+    )]
+    MeshMissing {
+        link: String,
+        uri: String,
+        tried: String,
+        #[label("loading this file")]
+        span: Span,
+    },
+
+    #[error("mesh `{uri}` of link `{link}` cannot be loaded: {reason}")]
+    #[diagnostic(code(declutter::world::mesh_load))]
+    MeshLoad {
+        link: String,
+        uri: String,
+        reason: String,
+        #[label("loading this file")]
+        span: Span,
+    },
+
+    #[error("robot `{robot}` has no link `{link}` to attach its hand to")]
+    #[diagnostic(code(declutter::world::unknown_flange))]
+    UnknownFlange {
+        robot: String,
+        link: String,
+        #[label("not a link of the URDF")]
+        span: Span,
+    },
+
+    #[error("`{what}` of robot `{robot}` has {got} values, but the robot has {expected} joints ({joints})")]
+    #[diagnostic(code(declutter::world::joint_count))]
+    JointCount {
+        robot: String,
+        what: String,
+        expected: usize,
+        got: usize,
+        joints: String,
+        #[label("expected {expected} values")]
+        span: Span,
+    },
+
+    #[error("`{what}` of robot `{robot}`: joint `{joint}` = {value} is outside its limits [{lower}, {upper}]")]
+    #[diagnostic(code(declutter::world::joint_limit))]
+    JointLimit {
+        robot: String,
+        what: String,
+        joint: String,
+        value: f64,
+        lower: f64,
+        upper: f64,
+        #[label("value {index} is out of range")]
+        span: Span,
+        index: usize,
+    },
+
+    #[error("`{what}` of robot `{robot}` is in collision: {reason}")]
+    #[diagnostic(
+        code(declutter::world::config_collides),
+        help("a robot's `home` and `drop` must be free of fixed bodies, other robots and itself")
+    )]
+    ConfigCollides {
+        robot: String,
+        what: String,
+        reason: String,
+        #[label("this configuration collides")]
+        span: Span,
+    },
+}
+
+impl Located for WorldError {
+    fn primary_span(&self) -> Option<Span> {
+        Some(match self {
+            WorldError::UrdfRead { span, .. }
+            | WorldError::UrdfParse { span, .. }
+            | WorldError::UrdfEmpty { span, .. }
+            | WorldError::UrdfStructure { span, .. }
+            | WorldError::MeshMissing { span, .. }
+            | WorldError::MeshLoad { span, .. }
+            | WorldError::UnknownFlange { span, .. }
+            | WorldError::JointCount { span, .. }
+            | WorldError::JointLimit { span, .. }
+            | WorldError::ConfigCollides { span, .. } => *span,
+        })
+    }
+}

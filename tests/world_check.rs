@@ -1,0 +1,189 @@
+//! Labelled collision checks on hand-built scenes.
+
+mod world_support;
+
+use declutter::diag::FsLoader;
+use declutter::resolve::{FixedId, HandId, ObjectId, RobotId};
+use declutter::world::{build, Blocker, Check, CheckCtx, ObjectSet, World, WorldOptions, CONTACT_TOLERANCE};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use world_support::*;
+
+const R0: RobotId = RobotId(0);
+
+fn d(x: f64) -> f64 {
+    x.to_radians()
+}
+
+fn set(ids: &[u32]) -> ObjectSet {
+    ids.iter().map(|&i| ObjectId(i)).collect()
+}
+
+fn opts(samples: usize) -> WorldOptions {
+    WorldOptions { self_collision_samples: samples, ..WorldOptions::default() }
+}
+
+fn make(scn: &declutter::resolve::Scenario, samples: usize) -> World {
+    build(scn, &opts(samples), &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"))
+}
+
+/// The planar arm lies along +x at q = 0: link boxes from x 0 to 0.9, |y|, |z| <= 0.02.
+fn planar_scene(home: Vec<f64>) -> declutter::resolve::Scenario {
+    let t = CONTACT_TOLERANCE;
+    let fixed = vec![
+        // A table whose top reaches 0.5 mm into the arm's underside: a touch, not a collision.
+        cuboid("table", [2.0, 2.0, 0.1], at(0.0, 0.0, -0.02 - 0.05 + t / 2.0)),
+        cuboid("wall", [0.1, 0.1, 0.1], at(-0.6, 0.07, 0.0)),
+    ];
+    let objects = vec![
+        object(cuboid("a", [0.05, 0.05, 0.05], at(0.2, 0.0, 0.0)), vec![]),
+        object(cuboid("b", [0.05, 0.05, 0.05], at(0.2, 0.3, 0.0)), vec![]),
+        object(cuboid("c", [0.05, 0.05, 0.05], at(0.75, 0.0, 0.0)), vec![]),
+        // Reaches 0.5 mm into link 2's side: within the tolerance.
+        object(cuboid("d", [0.05, 0.05, 0.05], at(0.55, 0.02 + 0.025 - t / 2.0, 0.0)), vec![]),
+        // Mid-way along a sweep to q1 = 90°.
+        object(cuboid("e", [0.05, 0.05, 0.05], at(0.45, 0.45, 0.0)), vec![]),
+    ];
+    scenario(vec![robot("p", planar3(), home, None)], vec![], fixed, objects)
+}
+
+#[test]
+fn touching_a_and_c_returns_exactly_a_and_c() {
+    let w = make(&planar_scene(vec![d(90.0), 0.0, 0.0]), 0);
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &CheckCtx::new()), Check::Touches(set(&[0, 2])));
+    // Removed objects are not there.
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &CheckCtx::with_absent(set(&[0]))), Check::Touches(set(&[2])));
+    // Pointing up (+y) the arm touches nothing but the table, which it only grazes.
+    assert_eq!(w.check(R0, &[d(90.0), 0.0, 0.0], &CheckCtx::new()), Check::free());
+}
+
+#[test]
+fn hitting_a_fixed_body_is_blocked_naming_body_and_link() {
+    let w = make(&planar_scene(vec![d(90.0), 0.0, 0.0]), 0);
+    // Link 1 at 170° ends at (-0.394, 0.069); link 2 continues along -x at y 0.069 into the wall.
+    let c = w.check(R0, &[d(170.0), d(10.0), 0.0], &CheckCtx::new());
+    assert_eq!(c, Check::Blocked(Blocker::Fixed { body: FixedId(1), link: "link2".into() }));
+}
+
+#[test]
+fn tx90_touching_the_table_is_blocked_naming_the_table() {
+    let table = cuboid("table", [1.0, 1.0, 0.1], at(0.9, 0.0, 0.40));
+    let scn = scenario(
+        vec![robot("tx90", tx90(), vec![0.0; 6], Some(HandId(0)))],
+        vec![hand("sah", sah(), 0.16)],
+        vec![table],
+        vec![],
+    );
+    let w = make(&scn, 500);
+    assert_eq!(w.check(R0, &[0.0; 6], &CheckCtx::new()), Check::free());
+    // Shoulder at 90°: the upper arm lies horizontally at z 0.478, into the table top at 0.45.
+    let c = w.check(R0, &[0.0, d(90.0), 0.0, 0.0, 0.0, 0.0], &CheckCtx::new());
+    assert_eq!(c, Check::Blocked(Blocker::Fixed { body: FixedId(0), link: "link_2".into() }));
+    // The base stands on the floor, but links that never move are not checked against fixed bodies.
+    let floor = cuboid("floor", [3.0, 3.0, 0.1], at(0.0, 0.0, -0.045));
+    let scn = scenario(vec![robot("tx90", tx90(), vec![0.0; 6], None)], vec![], vec![floor], vec![]);
+    let w = make(&scn, 0);
+    assert_eq!(w.check(R0, &[0.0; 6], &CheckCtx::new()), Check::free());
+}
+
+#[test]
+fn self_collision_is_detected_with_and_without_sampling() {
+    for samples in [0, 2000] {
+        let w = make(&planar_scene(vec![d(90.0), 0.0, 0.0]), samples);
+        // Folded twice: link 3 crosses back over link 1.
+        let c = w.check(R0, &[d(90.0), d(170.0), d(170.0)], &CheckCtx::new());
+        assert_eq!(
+            c,
+            Check::Blocked(Blocker::SelfCollision { link_a: "link1".into(), link_b: "link3".into() }),
+            "samples {samples}"
+        );
+        // Adjacent links overlapping at a joint never count.
+        assert!(!w.check(R0, &[d(90.0), d(170.0), 0.0], &CheckCtx::new()).is_blocked());
+    }
+}
+
+#[test]
+fn allow_contact_overrides_self_collision() {
+    let mut scn = planar_scene(vec![d(90.0), 0.0, 0.0]);
+    scn.robots[0].allow_contact.push(declutter::resolve::LinkPair {
+        a: "link3".into(),
+        b: "link1".into(),
+        span: sp(0, 1),
+    });
+    let w = make(&scn, 0);
+    assert!(!w.check(R0, &[d(90.0), d(170.0), d(170.0)], &CheckCtx::new()).is_blocked());
+}
+
+#[test]
+fn joint_limits_block() {
+    let w = make(&planar_scene(vec![d(90.0), 0.0, 0.0]), 0);
+    let c = w.check(R0, &[d(90.0), d(175.0), 0.0], &CheckCtx::new());
+    assert_eq!(c, Check::Blocked(Blocker::JointLimit { joint: "joint2".into(), value: d(175.0) }));
+}
+
+fn held_scene() -> declutter::resolve::Scenario {
+    let fixed = vec![cuboid("table", [0.1, 0.1, 0.1], at(0.0, 0.97, 0.0))];
+    let objects = vec![
+        object(cuboid("crate", [0.08, 0.08, 0.08], at(0.95, 0.0, 0.0)), vec![]),
+        object(cuboid("box", [0.08, 0.08, 0.08], at(-0.95, 0.0, 0.0)), vec![]),
+    ];
+    scenario(vec![robot("p", planar3(), vec![0.0, d(90.0), 0.0], None)], vec![], fixed, objects)
+}
+
+#[test]
+fn held_object_hitting_the_table_is_blocked() {
+    let w = make(&held_scene(), 0);
+    let held = w.held(R0, ObjectId(0), &[0.0, 0.0, 0.0]);
+    let p = held.pose_flange_object.translation.vector;
+    assert!((p - Vector3::new(0.05, 0.0, 0.0)).norm() < 1e-12);
+    let ctx = CheckCtx::with_held(ObjectSet::new(), held.clone());
+    // Pointing at +y, the crate in the hand (y 0.91..0.99) goes into the table (y 0.92..1.02).
+    let c = w.check(R0, &[d(90.0), 0.0, 0.0], &ctx);
+    assert_eq!(c, Check::Blocked(Blocker::HeldFixed { object: ObjectId(0), body: FixedId(0) }));
+    // The crate's old place does not count while it is carried; the arm at q = 0 holds it there.
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &ctx), Check::free());
+    // Carried into another removable object: that object is touched.
+    let q_back = [d(180.0 - 10.0), d(10.0), 0.0];
+    let tip = w.fk_flange(R0, &q_back).translation.vector;
+    let c = w.check(R0, &q_back, &ctx);
+    assert_eq!(c, Check::Touches(set(&[1])), "tip at {tip:?}");
+    // Folding the last link back over link 2 brings the crate onto the arm itself.
+    let c = w.check(R0, &[0.0, 0.0, d(170.0)], &ctx);
+    assert_eq!(c, Check::Blocked(Blocker::HeldSelf { object: ObjectId(0), link: "link2".into() }));
+}
+
+#[test]
+fn segment_unions_labels_and_counts_checks() {
+    let w = make(&planar_scene(vec![d(90.0), 0.0, 0.0]), 0);
+    let ctx = CheckCtx::with_absent(set(&[0, 2]));
+    let c = w.check_segment(R0, &[0.0, 0.0, 0.0], &[d(90.0), 0.0, 0.0], d(2.0), &ctx);
+    // Sweeping q1 from 0 to 90°: d is grazed then crossed by link 2, b (0.2, 0.3) and e
+    // (0.45, 0.45) lie on the swept quarter disc.
+    assert_eq!(c, Check::Touches(set(&[1, 3, 4])));
+    assert_eq!(ctx.checks.get(), 46);
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &ctx), Check::free());
+    // A segment that ends in the wall stops there.
+    let c = w.check_segment(R0, &[d(90.0), 0.0, 0.0], &[d(170.0), d(10.0), 0.0], d(2.0), &CheckCtx::new());
+    assert!(matches!(c, Check::Blocked(Blocker::Fixed { body: FixedId(1), .. })), "{c:?}");
+}
+
+#[test]
+fn other_robots_stand_at_home() {
+    let a = robot("a", planar3(), vec![d(90.0), 0.0, 0.0], None);
+    let mut b = robot("b", planar3(), vec![0.0, 0.0, 0.0], None);
+    // Robot b's base at x 1.2, turned to point along -x: its links cover x 0.8..1.2,
+    // 0.5..0.8 and 0.3..0.5, so robot a's link 1 (x 0..0.4) meets b's link 3.
+    b.pose_world_base =
+        Isometry3::from_parts(Translation3::new(1.2, 0.0, 0.0), UnitQuaternion::from_euler_angles(0.0, 0.0, d(180.0)));
+    let w = make(&scenario(vec![a, b], vec![], vec![], vec![]), 0);
+    let c = w.check(R0, &[0.0, 0.0, 0.0], &CheckCtx::new());
+    assert_eq!(
+        c,
+        Check::Blocked(Blocker::Robot { other: RobotId(1), link: "link1".into(), other_link: "link3".into() })
+    );
+}
+
+#[test]
+fn world_is_send_and_sync() {
+    fn is<T: Send + Sync>() {}
+    is::<World>();
+}

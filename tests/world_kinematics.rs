@@ -1,0 +1,123 @@
+//! Forward and inverse kinematics of the shipped models, against hand-computed poses.
+
+mod world_support;
+
+use declutter::diag::FsLoader;
+use declutter::resolve::{HandId, RobotId};
+use declutter::world::{build, WorldOptions};
+use nalgebra::{Matrix3, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use world_support::*;
+
+const R0: RobotId = RobotId(0);
+
+fn opts() -> WorldOptions {
+    WorldOptions { self_collision_samples: 0, ..WorldOptions::default() }
+}
+
+fn d(x: f64) -> f64 {
+    x.to_radians()
+}
+
+#[test]
+fn tx90_flange_matches_hand_computed_poses() {
+    let scn = scenario(vec![robot("tx90", tx90(), vec![0.0; 6], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(w.dof(R0), 6);
+    assert_eq!(w.joint_names(R0), ["joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6"]);
+    let i = Matrix3::identity();
+    let ry90 = Matrix3::new(0.0, 0.0, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0);
+    let rz90 = Matrix3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+    let ry90_rz90 = Matrix3::new(0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    let rz90_ry90 = Matrix3::new(0.0, -1.0, 0.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0);
+    // (q in degrees, flange position, flange rotation), worked out from the joint offsets:
+    // j1 at z 0.478; j2 +x 0.05; j3 +(0, 0.05, 0.425); j5 +z 0.425; flange +z 0.1.
+    let cases: [([f64; 6], [f64; 3], Matrix3<f64>); 7] = [
+        ([0.0; 6], [0.05, 0.05, 1.428], i),
+        ([90.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-0.05, 0.05, 1.428], rz90),
+        ([0.0, 90.0, 0.0, 0.0, 0.0, 0.0], [1.0, 0.05, 0.478], ry90),
+        ([0.0, 0.0, 90.0, 0.0, 0.0, 0.0], [0.575, 0.05, 0.903], ry90),
+        ([0.0, 0.0, 0.0, 0.0, 90.0, 90.0], [0.15, 0.05, 1.328], ry90_rz90),
+        ([0.0, 0.0, 0.0, 90.0, 90.0, 0.0], [0.05, 0.15, 1.328], rz90_ry90),
+        ([0.0, -90.0, 90.0, 0.0, 0.0, 0.0], [-0.375, 0.05, 1.003], i),
+    ];
+    for (q, p, r) in cases {
+        let q: Vec<f64> = q.iter().map(|x| d(*x)).collect();
+        let f = w.fk_flange(R0, &q);
+        let dp = (f.translation.vector - Vector3::from(p)).norm();
+        assert!(dp < 1e-9, "q {q:?}: flange at {:?}, expected {p:?}", f.translation.vector);
+        let dr = (f.rotation.to_rotation_matrix().into_inner() - r).norm();
+        assert!(dr < 1e-9, "q {q:?}: rotation {} expected {r}", f.rotation.to_rotation_matrix().into_inner());
+    }
+}
+
+#[test]
+fn tcp_is_flange_times_hand_tcp_and_base_pose_applies() {
+    let mut r = robot("tx90", tx90(), vec![0.0; 6], Some(HandId(0)));
+    r.pose_world_base = at(1.0, 2.0, 0.5);
+    let scn = scenario(vec![r], vec![hand("sah", sah(), 0.16)], vec![], vec![]);
+    let w = build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let q = [0.0, 0.0, 0.0, 0.0, d(90.0), 0.0];
+    // Wrist bent 90° about y: the tool points along +x, 0.1 + 0.16 m beyond joint 5.
+    let tcp = w.fk_tcp(R0, &q);
+    let expect = Vector3::new(1.0 + 0.05 + 0.26, 2.05, 0.5 + 1.328);
+    assert!((tcp.translation.vector - expect).norm() < 1e-9, "{:?}", tcp.translation.vector);
+}
+
+#[test]
+fn planar3_limits_and_fk() {
+    let scn = scenario(vec![robot("p", planar3(), vec![0.0; 3], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(w.limits(R0), [(-d(170.0), d(170.0)); 3].map(|(a, b)| (a, b)));
+    let f = w.fk_flange(R0, &[d(90.0), d(-90.0), 0.0]);
+    assert!((f.translation.vector - Vector3::new(0.5, 0.4, 0.0)).norm() < 1e-12);
+}
+
+#[test]
+fn tx90_ik_round_trip() {
+    let scn = scenario(
+        vec![robot("tx90", tx90(), vec![0.0; 6], Some(HandId(0)))],
+        vec![hand("sah", sah(), 0.16)],
+        vec![],
+        vec![],
+    );
+    let w = build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    let lim = w.limits(R0).to_vec();
+    let n = 1000;
+    let mut ok = 0;
+    for i in 0..n {
+        let q: Vec<f64> = lim.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect();
+        let target = w.fk_tcp(R0, &q);
+        let sols = w.ik(R0, &target, i, 1);
+        if let Some(s) = sols.first() {
+            assert!(s.iter().zip(&lim).all(|(v, (lo, hi))| v >= lo && v <= hi));
+            let got = w.fk_tcp(R0, s);
+            let dp = (got.translation.vector - target.translation.vector).norm();
+            let dr = got.rotation.angle_to(&target.rotation);
+            if dp < 1e-6 && dr < 1e-6 {
+                ok += 1;
+            }
+        }
+    }
+    println!("IK round trip: {ok}/{n}");
+    assert!(ok * 100 >= n as usize * 99, "only {ok}/{n} recovered");
+}
+
+#[test]
+fn ik_is_deterministic_and_solutions_distinct() {
+    let scn = scenario(vec![robot("tx90", tx90(), vec![0.0; 6], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let q = [0.3, 0.4, 0.9, 0.2, 0.7, -0.5];
+    let target = w.fk_tcp(R0, &q);
+    let a = w.ik(R0, &target, 7, 4);
+    let b = w.ik(R0, &target, 7, 4);
+    assert_eq!(a, b);
+    assert!(a.len() >= 2, "a 6R arm has several solutions here, got {}", a.len());
+    for (i, x) in a.iter().enumerate() {
+        for y in &a[i + 1..] {
+            assert!(x.iter().zip(y.iter()).any(|(u, v)| (u - v).abs() > 1e-4));
+        }
+    }
+}

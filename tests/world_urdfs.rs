@@ -1,0 +1,107 @@
+//! The real robot files in `../shared/robots` load, with finite forward kinematics.
+//! Skipped (with the reason printed) when that directory is absent.
+
+mod world_support;
+
+use std::path::Path;
+
+use declutter::diag::FsLoader;
+use declutter::resolve::RobotId;
+use declutter::world::{build, load_kinematics, MeshMode, RobotKinematics, WorldOptions};
+use world_support::*;
+
+fn load(path: &Path, mode: MeshMode) -> RobotKinematics {
+    let opts = WorldOptions { mesh_mode: mode, ..WorldOptions::default() };
+    load_kinematics(&file(path, sp(10, 20)), None, &opts, &FsLoader)
+        .unwrap_or_else(|e| panic!("{}: {e:#?}", path.display()))
+}
+
+fn mid(k: &RobotKinematics) -> Vec<f64> {
+    k.limits().iter().map(|(lo, hi)| (lo + hi) / 2.0).collect()
+}
+
+fn assert_finite(k: &RobotKinematics, name: &str) {
+    for q in [mid(k), k.limits().iter().map(|l| l.0).collect(), k.limits().iter().map(|l| l.1).collect()] {
+        for (link, p) in k.fk_links(&q) {
+            let ok =
+                p.translation.vector.iter().all(|v| v.is_finite()) && p.rotation.coords.iter().all(|v| v.is_finite());
+            assert!(ok, "{name}: link {link} not finite at {q:?}");
+        }
+    }
+}
+
+#[test]
+fn shared_robots_load_with_finite_fk() {
+    let Some(root) = shared_robots() else { return };
+    // (file, actuated joints, collision links at least, collision shapes at least). The
+    // Panda's default flange is `panda_hand_tcp` (the deepest link, first in file order),
+    // so its fingers are off the chain: frozen at 0, the mimic finger following.
+    let cases: [(&str, usize, usize, usize); 8] = [
+        ("tx90/tx90.urdf", 6, 7, 7),
+        ("panda/example-robot-data/robots/panda_description/urdf/panda.urdf", 7, 10, 10),
+        ("panda/vamp/panda_spherized.urdf", 7, 8, 50),
+        ("ur5/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf", 6, 6, 6),
+        ("ur5/example-robot-data/robots/ur_description/urdf/ur5_joint_limited_robot.urdf", 6, 6, 6),
+        ("iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf", 7, 7, 7),
+        ("iiwa/drake_models/iiwa_description/urdf/iiwa14_polytope_collision.urdf", 7, 1, 1),
+        ("iiwa/drake_models/iiwa_description/urdf/iiwa14_spheres_dense_collision.urdf", 7, 7, 20),
+    ];
+    for (f, dof, links, shapes) in cases {
+        let path = root.join(f);
+        if !path.is_file() {
+            eprintln!("skipped {f}: not present");
+            continue;
+        }
+        let k = load(&path, MeshMode::ConvexHull);
+        println!(
+            "{f}: {} joints {:?}, flange {}, {} collision links, {} shapes",
+            k.joint_names().len(),
+            k.joint_names(),
+            k.flange(),
+            k.collision_links().len(),
+            k.shape_count()
+        );
+        assert_eq!(k.joint_names().len(), dof, "{f}");
+        assert!(k.collision_links().len() >= links, "{f}: {:?}", k.collision_links());
+        assert!(k.shape_count() >= shapes, "{f}: {} shapes", k.shape_count());
+        assert_finite(&k, f);
+    }
+}
+
+#[test]
+fn shared_meshes_load_as_triangle_meshes_too() {
+    let Some(root) = shared_robots() else { return };
+    for f in [
+        "tx90/tx90.urdf",
+        "panda/example-robot-data/robots/panda_description/urdf/panda.urdf",
+        "iiwa/drake_models/iiwa_description/urdf/iiwa14_polytope_collision.urdf",
+    ] {
+        let k = load(&root.join(f), MeshMode::TriMesh);
+        assert_finite(&k, f);
+    }
+}
+
+#[test]
+fn real_tx90_matches_the_shipped_model() {
+    let Some(root) = shared_robots() else { return };
+    let real = load(&root.join("tx90/tx90.urdf"), MeshMode::ConvexHull);
+    let ours = load(&tx90(), MeshMode::ConvexHull);
+    assert_eq!(real.limits(), ours.limits());
+    for q in [[0.0; 6], [0.3, -0.4, 1.1, 0.5, -0.7, 2.0]] {
+        let a = real.fk_links(&q);
+        let b = ours.fk_links(&q);
+        let pa = &a.iter().find(|(n, _)| n == "link_6").unwrap().1;
+        let pb = &b.iter().find(|(n, _)| n == "link_6").unwrap().1;
+        assert!((pa.translation.vector - pb.translation.vector).norm() < 1e-12);
+        assert!(pa.rotation.angle_to(&pb.rotation) < 1e-12);
+    }
+}
+
+#[test]
+fn real_tx90_builds_into_a_world_with_self_collision_sampling() {
+    let Some(root) = shared_robots() else { return };
+    let scn = scenario(vec![robot("tx90", root.join("tx90/tx90.urdf"), vec![0.0; 6], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
+    let r = RobotId(0);
+    assert!(!w.check(r, &[0.0; 6], &declutter::world::CheckCtx::new()).is_blocked());
+}
