@@ -16,7 +16,9 @@ fn set(ids: &[u32]) -> ObjectSet {
 fn path_is_free(w: &Planar, path: &JointPath, removed: &ObjectSet, held: Option<declutter::world::Held>) -> bool {
     let mode = Mode { absent: removed.clone(), held };
     let mut c = 0;
-    path.0.windows(2).all(|s| w.check_segment(&s[0], &s[1], 1f64.to_radians(), &mode, &mut c) == Check::free())
+    path.0
+        .windows(2)
+        .all(|s| w.check_segment(&s[0], &s[1], PlannerSettings::default().resolution, &mode, &mut c) == Check::free())
         && path.0.iter().all(|q| w.check(q, &mode, &mut c) == Check::free())
 }
 

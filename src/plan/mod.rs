@@ -6,11 +6,13 @@
 //! [`Oracle`], so the graph logic can be tested on hand-built answers.
 
 mod knn;
+mod planner;
 mod prm;
 mod roadmap;
 mod search;
 mod space;
 
+pub use planner::{Planner, RobotSpace};
 pub use prm::{PrmOptions, RobotPlanner};
 pub use space::{Mode, Space};
 

@@ -22,7 +22,7 @@ use rayon::prelude::*;
 
 use super::knn::dist2;
 use super::roadmap::{mix, Roadmap};
-use super::search::{fewest_removals, fewest_vertices, Found, Graph, Lab};
+use super::search::{fewest_removals, fewest_vertices, mask, Found, Graph, Lab};
 use super::space::{Mode, Space};
 use super::{Answer, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
@@ -104,13 +104,12 @@ impl Rule {
     }
     fn apply(self, l: Option<&ObjectSet>, unknown: bool) -> Lab {
         let Some(s) = l else { return Lab::Blocked };
-        let mut s = s.clone();
-        match self {
-            Rule::Plain => {}
+        let s = match self {
+            Rule::Plain => mask(s),
             Rule::Forbid(o) if s.contains(o) => return Lab::Blocked,
-            Rule::Forbid(_) => {}
-            Rule::Strip(o) => s.remove(o),
-        }
+            Rule::Forbid(_) => mask(s),
+            Rule::Strip(o) => mask(s) & !(1 << o.index().min(127)),
+        };
         if unknown {
             Lab::Unknown(s)
         } else {
@@ -129,6 +128,8 @@ struct Built {
     erule: Vec<Rule>,
     /// Layer of each vertex and its node.
     vnode: Vec<(u8, Node)>,
+    /// Labels of the transition edges (which have no key).
+    fixed: HashMap<u32, ObjectSet>,
     start: u32,
     goal: u32,
 }
@@ -147,6 +148,8 @@ struct Cand {
     found: Found,
     /// (layer, node) of each vertex of the path.
     nodes: Vec<(u8, Node)>,
+    /// The exact union of the labels on the path.
+    set: ObjectSet,
     /// Index into the query's goals (grasps).
     goal: usize,
 }
@@ -283,13 +286,12 @@ impl<S: Space> RobotPlanner<S> {
                 },
             };
             if better {
-                let improved =
-                    best.as_ref().is_none_or(|(b, _)| cand.as_ref().unwrap().found.set.len() < b.found.set.len());
+                let improved = best.as_ref().is_none_or(|(b, _)| cand.as_ref().unwrap().set.len() < b.set.len());
                 let since = if improved { r } else { best.as_ref().unwrap().1 };
                 best = Some((cand.unwrap(), since));
             }
             if let Some((b, since)) = &best {
-                if b.found.set.is_empty() || self.settings.first_path {
+                if b.set.is_empty() || self.settings.first_path {
                     break;
                 }
                 if self.opts.patience.is_some_and(|p| r >= since + p) {
@@ -490,11 +492,15 @@ impl<S: Space> RobotPlanner<S> {
                 }
             }
             if wanted.is_empty() {
+                let sets: Vec<Option<ObjectSet>> = self.lock(
+                    |s| built.iter().zip(&found).map(|(b, f)| f.as_ref().map(|f| exact_set(s, b, f))).collect(),
+                    checks,
+                );
                 let mut best: Option<Cand> = None;
-                for (i, f) in found.into_iter().enumerate() {
-                    let Some(f) = f else { continue };
+                for (i, (f, set)) in found.into_iter().zip(sets).enumerate() {
+                    let (Some(f), Some(set)) = (f, set) else { continue };
                     let nodes = f.verts.iter().map(|&v| built[i].vnode[v as usize]).collect();
-                    let c = Cand { found: f, goal: i, nodes };
+                    let c = Cand { found: f, goal: i, nodes, set };
                     let better = best.as_ref().is_none_or(|b| match objective {
                         Objective::FewestRemovals => key(&c) < key(b),
                         Objective::FewestVertices => vkey(&c) < vkey(b),
@@ -584,17 +590,40 @@ impl<S: Space> RobotPlanner<S> {
             grasp: object.map(|_| g.cfg.grasp),
             approach: JointPath(approach),
             retreat: JointPath(retreat),
-            removals: cand.found.set.clone(),
+            removals: cand.set.clone(),
         }
     }
 }
 
 fn key(c: &Cand) -> (usize, Len, usize) {
-    (c.found.set.len(), Len(c.found.len), c.goal)
+    (c.set.len(), Len(c.found.len), c.goal)
 }
 
 fn vkey(c: &Cand) -> (usize, usize, Len, usize) {
-    (c.found.set.len(), c.found.verts.len(), Len(c.found.len), c.goal)
+    (c.set.len(), c.found.verts.len(), Len(c.found.len), c.goal)
+}
+
+/// The exact union of the labels on a fully known path.
+fn exact_set(s: &State, b: &Built, f: &Found) -> ObjectSet {
+    let mut out = ObjectSet::new();
+    let mut add = |l: Option<Option<ObjectSet>>, rule: Rule| {
+        if let Some(Some(mut l)) = l {
+            if let Rule::Strip(o) = rule {
+                l.remove(o);
+            }
+            out.union_with(&l);
+        }
+    };
+    for &v in &f.verts {
+        add(lookup(s, b.vkey[v as usize]), b.vrule[v as usize]);
+    }
+    for &e in &f.edges {
+        match b.ekey[e as usize] {
+            Some(k) => add(lookup(s, k), b.erule[e as usize]),
+            None => add(b.fixed.get(&e).cloned().map(Some), Rule::Plain),
+        }
+    }
+    out
 }
 
 #[derive(Clone, Copy, PartialEq, PartialOrd)]
@@ -715,6 +744,7 @@ fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &Gra
         ekey: Vec::new(),
         erule: Vec::new(),
         vnode: Vec::new(),
+        fixed: HashMap::new(),
         start: 0,
         goal: 0,
     };
@@ -742,7 +772,7 @@ fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &Gra
                         let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
                         match empty {
                             Some(l) => rule.bound(Some(&strip(&l))),
-                            None => Lab::Unknown(ObjectSet::new()),
+                            None => Lab::Unknown(0),
                         }
                     }
                 },
@@ -759,7 +789,7 @@ fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &Gra
                     Some(l) => rule.known(l.as_ref()),
                     None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
                         (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
-                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x.union(y)),
+                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x | y),
                     },
                 };
                 b.g.add_edge(la, lb, len, lab);
@@ -793,7 +823,8 @@ fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &Gra
     };
     b.start = local(0, Node::Map(0));
     let transition = |b: &mut Built, a: u32, c: u32, len: f64, l: &ObjectSet| {
-        b.g.add_edge(a, c, len, Lab::Known(l.clone()));
+        let e = b.g.add_edge(a, c, len, Lab::Known(mask(l)));
+        b.fixed.insert(e, l.clone());
         b.ekey.push(None);
         b.erule.push(Rule::Plain);
     };

@@ -11,19 +11,32 @@ use std::collections::BinaryHeap;
 
 use crate::world::ObjectSet;
 
+/// A label set as the searches see it: bit i is object i. Objects with ids of 127 and
+/// above share bit 127, which can only make the search conservative for scenarios
+/// with more than 127 removable objects; reported sets are always the exact unions.
+pub(crate) type Mask = u128;
+
+pub(crate) fn mask(s: &ObjectSet) -> Mask {
+    s.iter().fold(0, |m, o| m | 1 << o.index().min(127))
+}
+
+fn subset(a: Mask, b: Mask) -> bool {
+    a & !b == 0
+}
+
 /// The label of a vertex or an edge.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Lab {
     /// Not checked yet; the true label contains this set.
-    Unknown(ObjectSet),
-    Known(ObjectSet),
+    Unknown(Mask),
+    Known(Mask),
     /// Hits something fixed.
     Blocked,
 }
 
 impl Lab {
-    fn bound(&self) -> Option<&ObjectSet> {
-        match self {
+    pub(crate) fn bound(&self) -> Option<Mask> {
+        match *self {
             Lab::Unknown(s) | Lab::Known(s) => Some(s),
             Lab::Blocked => None,
         }
@@ -64,7 +77,7 @@ impl Graph {
 pub(crate) struct Found {
     pub verts: Vec<u32>,
     pub edges: Vec<u32>,
-    pub set: ObjectSet,
+    pub set: Mask,
     pub len: f64,
 }
 
@@ -85,7 +98,7 @@ impl Ord for Len {
 
 struct State {
     v: u32,
-    set: ObjectSet,
+    set: Mask,
     len: f64,
     parent: u32,
     edge: u32,
@@ -97,20 +110,20 @@ struct State {
 /// at no greater length. Exact on the graph; exponential only in the number of
 /// distinct label sets that reach a vertex.
 pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32) -> Option<Found> {
-    let start_set = g.vlab[start as usize].bound()?.clone();
+    let start_set = g.vlab[start as usize].bound()?;
     let mut states = vec![State { v: start, set: start_set, len: 0.0, parent: u32::MAX, edge: u32::MAX }];
     let mut alive = vec![true];
     let mut fronts: Vec<Vec<u32>> = vec![Vec::new(); g.vlab.len()];
     fronts[start as usize].push(0);
     let mut heap = BinaryHeap::new();
-    heap.push(Reverse((states[0].set.len(), Len(0.0), 0u32)));
+    heap.push(Reverse((states[0].set.count_ones(), Len(0.0), 0u32)));
     while let Some(Reverse((_, _, id))) = heap.pop() {
         if !alive[id as usize] {
             continue;
         }
         let (v, set, len) = {
             let s = &states[id as usize];
-            (s.v, s.set.clone(), s.len)
+            (s.v, s.set, s.len)
         };
         if v == goal {
             return Some(unwind(&states, id));
@@ -119,26 +132,25 @@ pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32) -> Option<Found>
             let (Some(el), Some(wl)) = (g.elab[e as usize].bound(), g.vlab[w as usize].bound()) else {
                 continue;
             };
-            let mut s2 = set.union(el);
-            s2.union_with(wl);
+            let s2 = set | el | wl;
             let l2 = len + g.elen[e as usize];
             let front = &mut fronts[w as usize];
             if front.iter().any(|&o| {
                 let o = &states[o as usize];
-                o.len <= l2 && o.set.is_subset(&s2)
+                o.len <= l2 && subset(o.set, s2)
             }) {
                 continue;
             }
             front.retain(|&o| {
                 let os = &states[o as usize];
-                let dominated = l2 <= os.len && s2.is_subset(&os.set);
+                let dominated = l2 <= os.len && subset(s2, os.set);
                 if dominated {
                     alive[o as usize] = false;
                 }
                 !dominated
             });
             let nid = states.len() as u32;
-            heap.push(Reverse((s2.len(), Len(l2), nid)));
+            heap.push(Reverse((s2.count_ones(), Len(l2), nid)));
             states.push(State { v: w, set: s2, len: l2, parent: id, edge: e });
             alive.push(true);
             fronts[w as usize].push(nid);
@@ -149,7 +161,7 @@ pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32) -> Option<Found>
 
 fn unwind(states: &[State], mut id: u32) -> Found {
     let last = &states[id as usize];
-    let (set, len) = (last.set.clone(), last.len);
+    let (set, len) = (last.set, last.len);
     let (mut verts, mut edges) = (Vec::new(), Vec::new());
     loop {
         let s = &states[id as usize];
@@ -190,12 +202,12 @@ pub(crate) fn fewest_vertices(g: &Graph, start: u32, goal: u32) -> Option<Found>
             }
             verts.reverse();
             edges.reverse();
-            let mut set = ObjectSet::new();
+            let mut set = 0;
             for &x in &verts {
-                set.union_with(g.vlab[x as usize].bound().expect("unblocked"));
+                set |= g.vlab[x as usize].bound().expect("unblocked");
             }
             for &e in &edges {
-                set.union_with(g.elab[e as usize].bound().expect("unblocked"));
+                set |= g.elab[e as usize].bound().expect("unblocked");
             }
             return Some(Found { verts, edges, set, len: l });
         }
@@ -220,8 +232,8 @@ mod tests {
     use super::*;
     use crate::resolve::ObjectId;
 
-    fn set(ids: &[u32]) -> ObjectSet {
-        ids.iter().map(|&i| ObjectId(i)).collect()
+    fn set(ids: &[u32]) -> Mask {
+        mask(&ids.iter().map(|&i| ObjectId(i)).collect())
     }
 
     /// start 0, goal 3. Short route 0-1-3 touches {0,1}; long route 0-2-4-3 touches {2};
@@ -229,14 +241,14 @@ mod tests {
     fn diamond() -> Graph {
         let mut g = Graph::default();
         for _ in 0..5 {
-            g.add_vertex(Lab::Known(ObjectSet::new()));
+            g.add_vertex(Lab::Known(0));
         }
         g.add_edge(0, 3, 0.5, Lab::Blocked);
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
         g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
-        g.add_edge(0, 2, 1.0, Lab::Known(ObjectSet::new()));
+        g.add_edge(0, 2, 1.0, Lab::Known(0));
         g.add_edge(2, 4, 1.0, Lab::Known(set(&[2])));
-        g.add_edge(4, 3, 1.0, Lab::Known(ObjectSet::new()));
+        g.add_edge(4, 3, 1.0, Lab::Known(0));
         g
     }
 
@@ -256,7 +268,7 @@ mod tests {
         // Route A touches {5} on three edges; route B touches {6} then {7}.
         let mut g = Graph::default();
         for _ in 0..6 {
-            g.add_vertex(Lab::Known(ObjectSet::new()));
+            g.add_vertex(Lab::Known(0));
         }
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[5])));
         g.add_edge(1, 2, 1.0, Lab::Known(set(&[5])));
@@ -275,11 +287,11 @@ mod tests {
         // length alone would lose it.
         let mut g = Graph::default();
         for _ in 0..4 {
-            g.add_vertex(Lab::Known(ObjectSet::new()));
+            g.add_vertex(Lab::Known(0));
         }
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
         g.add_edge(0, 2, 1.0, Lab::Known(set(&[1])));
-        g.add_edge(2, 1, 5.0, Lab::Known(ObjectSet::new()));
+        g.add_edge(2, 1, 5.0, Lab::Known(0));
         g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
         let f = fewest_removals(&g, 0, 3).unwrap();
         assert_eq!(f.set, set(&[1]));
@@ -293,14 +305,14 @@ mod tests {
     #[test]
     fn vertex_labels_count_and_blocked_vertices_are_avoided() {
         let mut g = Graph::default();
-        g.add_vertex(Lab::Known(ObjectSet::new()));
+        g.add_vertex(Lab::Known(0));
         g.add_vertex(Lab::Blocked);
         g.add_vertex(Lab::Known(set(&[3])));
-        g.add_vertex(Lab::Known(ObjectSet::new()));
-        g.add_edge(0, 1, 1.0, Lab::Known(ObjectSet::new()));
-        g.add_edge(1, 3, 1.0, Lab::Known(ObjectSet::new()));
-        g.add_edge(0, 2, 1.0, Lab::Known(ObjectSet::new()));
-        g.add_edge(2, 3, 1.0, Lab::Known(ObjectSet::new()));
+        g.add_vertex(Lab::Known(0));
+        g.add_edge(0, 1, 1.0, Lab::Known(0));
+        g.add_edge(1, 3, 1.0, Lab::Known(0));
+        g.add_edge(0, 2, 1.0, Lab::Known(0));
+        g.add_edge(2, 3, 1.0, Lab::Known(0));
         let f = fewest_removals(&g, 0, 3).unwrap();
         assert_eq!(f.set, set(&[3]));
         assert_eq!(fewest_vertices(&g, 0, 3).unwrap().verts, vec![0, 2, 3]);
@@ -322,10 +334,10 @@ mod tests {
             let n = 8;
             let mut g = Graph::default();
             for _ in 0..n {
-                let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { ObjectSet::new() };
+                let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { 0 };
                 g.add_vertex(Lab::Known(l));
             }
-            g.vlab[0] = Lab::Known(ObjectSet::new());
+            g.vlab[0] = Lab::Known(0);
             for _ in 0..14 {
                 let (a, b) = (rnd(n) as u32, rnd(n) as u32);
                 if a == b {
@@ -334,18 +346,18 @@ mod tests {
                 let lab = match rnd(6) {
                     0 => Lab::Blocked,
                     1 | 2 => Lab::Known(set(&[rnd(5) as u32])),
-                    _ => Lab::Known(ObjectSet::new()),
+                    _ => Lab::Known(0),
                 };
                 g.add_edge(a, b, 1.0 + rnd(3) as f64, lab);
             }
-            let mcr = fewest_removals(&g, 0, n as u32 - 1).map(|f| f.set.len());
+            let mcr = fewest_removals(&g, 0, n as u32 - 1).map(|f| f.set.count_ones() as usize);
             let brute = (0u32..32).filter(|m| path_within(&g, *m, n as u32 - 1)).map(|m| m.count_ones() as usize).min();
             assert_eq!(mcr, brute);
         }
     }
 
     fn path_within(g: &Graph, mask: u32, goal: u32) -> bool {
-        let ok = |l: &Lab| l.bound().is_some_and(|s| s.iter().all(|o| mask & (1 << o.0) != 0));
+        let ok = |l: &Lab| l.bound().is_some_and(|s| s & !(mask as Mask) == 0);
         let mut seen = vec![false; g.vlab.len()];
         let mut stack = vec![0u32];
         if !ok(&g.vlab[0]) {
