@@ -53,7 +53,7 @@ enum Node {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum ModeKey {
     Empty,
-    /// Carrying the object after grasp number `.1`.
+    /// Carrying the object after the `.1`-th configuration `selectGrasps` returned.
     Carry(ObjectId, u32),
 }
 
@@ -138,6 +138,10 @@ struct Built {
 #[derive(Clone)]
 struct GraspGoal {
     cfg: GraspConfig,
+    /// Empty-hand label of the pre-grasp.
+    pre_set: ObjectSet,
+    /// Position in the `selectGrasps` answer (the carry mode's key).
+    key: u32,
     pre: u32,
     approach: ObjectSet,
 }
@@ -248,8 +252,18 @@ impl<S: Space> RobotPlanner<S> {
                 if lab.is_none() {
                     return Err(Unreachable::GoalBlocked);
                 }
+
                 let cfg = GraspConfig { grasp: 0, q_grasp: Config(q.to_vec()), q_pregrasp: Config(q.to_vec()) };
-                (None, vec![GraspGoal { cfg, pre: id, approach: ObjectSet::new() }])
+                (
+                    None,
+                    vec![GraspGoal {
+                        cfg,
+                        key: 0,
+                        pre: id,
+                        pre_set: lab.unwrap_or_default(),
+                        approach: ObjectSet::new(),
+                    }],
+                )
             }
             Goal::Grasp(o) => {
                 let grasps = self.space.grasps(*o);
@@ -275,7 +289,29 @@ impl<S: Space> RobotPlanner<S> {
         let mut best: Option<(Cand, usize)> = None;
         for r in 0..=max_r {
             self.ensure_round(r, stats, checks);
-            let cand = self.search_round(r, object, &goals, drop, objective, checks);
+            // fewest_removals keeps the best answer, so later rounds only look for smaller sets.
+            let bound = match (&best, objective) {
+                (Some((b, _)), Objective::FewestRemovals) => b.set.len() as u32,
+                _ => u32::MAX,
+            };
+            // A grasp whose straight approach (or pre-grasp) alone touches `bound` objects
+            // cannot beat the best answer on any roadmap: leave it out, and stop when none is left.
+            let live: Vec<GraspGoal> =
+                goals.iter().filter(|g| (g.approach.union(&g.pre_set).len() as u32) < bound).cloned().collect();
+            if live.is_empty() {
+                break;
+            }
+            // The paper's rule samples on only while a free path may still appear.
+            if objective == Objective::FewestVertices
+                && best.is_some()
+                && goals.iter().all(|g| !g.approach.is_empty() || !g.pre_set.is_empty())
+            {
+                break;
+            }
+            let cand = self.search_round(r, object, &live, drop, (objective, bound), checks).map(|mut c| {
+                c.goal = goals.iter().position(|g| g.key == live[c.goal].key).expect("live goal");
+                c
+            });
             let better = match (&cand, &best) {
                 (None, _) => false,
                 (Some(_), None) => true,
@@ -385,13 +421,14 @@ impl<S: Space> RobotPlanner<S> {
     /// approach hits something fixed (or the pre-grasp touches the object) are dropped.
     fn grasp_goals(&self, o: ObjectId, grasps: Vec<GraspConfig>, checks: &mut u64) -> Vec<GraspGoal> {
         let mut out = Vec::new();
-        for cfg in grasps {
+        // Keyed by position: selectGrasps may return several solutions of one grasp.
+        for (g, cfg) in grasps.into_iter().enumerate() {
             let (pre, lab) = self.goal_node(&cfg.q_pregrasp, checks);
             let Some(lab) = lab else { continue };
             if lab.contains(o) {
                 continue;
             }
-            let g = cfg.grasp as u32;
+            let g = g as u32;
             let held = self.space.held(o, &cfg.q_grasp);
             let item = Item::Approach(o, g);
             let cached = self.lock(
@@ -419,7 +456,7 @@ impl<S: Space> RobotPlanner<S> {
                 }
             };
             if let Some(approach) = approach {
-                out.push(GraspGoal { cfg, pre, approach });
+                out.push(GraspGoal { cfg, key: g, pre, pre_set: lab, approach });
             }
         }
         out
@@ -451,7 +488,7 @@ impl<S: Space> RobotPlanner<S> {
         object: Option<ObjectId>,
         goals: &[GraspGoal],
         drop: Option<Node>,
-        objective: Objective,
+        (objective, bound): (Objective, u32),
         checks: &mut u64,
     ) -> Option<Cand> {
         let mut built: Vec<Built> = self.lock(
@@ -467,7 +504,7 @@ impl<S: Space> RobotPlanner<S> {
             return None;
         }
         let search = |b: &Built| match objective {
-            Objective::FewestRemovals => fewest_removals(&b.g, b.start, b.goal),
+            Objective::FewestRemovals => fewest_removals(&b.g, b.start, b.goal, bound),
             Objective::FewestVertices => fewest_vertices(&b.g, b.start, b.goal),
         };
         loop {
@@ -714,7 +751,7 @@ fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &Gra
     match object {
         None => layers.push((Empty, Rule::Plain, vec![pre])),
         Some(o) => {
-            let carry = Carry(o, goal.cfg.grasp as u32);
+            let carry = Carry(o, goal.key);
             layers.push((Empty, Rule::Forbid(o), vec![pre]));
             match drop {
                 Some(Node::Goal(d)) => {

@@ -109,8 +109,14 @@ struct State {
 /// (|set|, length), pruning a state when the same vertex was reached with a subset
 /// at no greater length. Exact on the graph; exponential only in the number of
 /// distinct label sets that reach a vertex.
-pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32) -> Option<Found> {
+///
+/// States with `bound` or more objects are dropped: the caller already holds an
+/// answer that small, so only strictly smaller sets are worth finding.
+pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Found> {
     let start_set = g.vlab[start as usize].bound()?;
+    if start_set.count_ones() >= bound {
+        return None;
+    }
     let mut states = vec![State { v: start, set: start_set, len: 0.0, parent: u32::MAX, edge: u32::MAX }];
     let mut alive = vec![true];
     let mut fronts: Vec<Vec<u32>> = vec![Vec::new(); g.vlab.len()];
@@ -133,6 +139,9 @@ pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32) -> Option<Found>
                 continue;
             };
             let s2 = set | el | wl;
+            if s2.count_ones() >= bound {
+                continue;
+            }
             let l2 = len + g.elen[e as usize];
             let front = &mut fronts[w as usize];
             if front.iter().any(|&o| {
@@ -255,7 +264,7 @@ mod tests {
     #[test]
     fn mcr_prefers_fewer_removals_over_fewer_vertices() {
         let g = diamond();
-        let mcr = fewest_removals(&g, 0, 3).unwrap();
+        let mcr = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
         assert_eq!(mcr.verts, vec![0, 2, 4, 3]);
         assert_eq!(mcr.set, set(&[2]));
         let fv = fewest_vertices(&g, 0, 3).unwrap();
@@ -275,7 +284,7 @@ mod tests {
         g.add_edge(2, 5, 1.0, Lab::Known(set(&[5])));
         g.add_edge(0, 3, 0.1, Lab::Known(set(&[6])));
         g.add_edge(3, 5, 0.1, Lab::Known(set(&[7])));
-        let f = fewest_removals(&g, 0, 5).unwrap();
+        let f = fewest_removals(&g, 0, 5, u32::MAX).unwrap();
         assert_eq!(f.set, set(&[5]));
         assert_eq!(f.verts, vec![0, 1, 2, 5]);
     }
@@ -293,13 +302,15 @@ mod tests {
         g.add_edge(0, 2, 1.0, Lab::Known(set(&[1])));
         g.add_edge(2, 1, 5.0, Lab::Known(0));
         g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
-        let f = fewest_removals(&g, 0, 3).unwrap();
+        let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
         assert_eq!(f.set, set(&[1]));
         assert_eq!(f.verts, vec![0, 2, 1, 3]);
+        // With an answer of one object in hand, nothing better exists.
+        assert!(fewest_removals(&g, 0, 3, 1).is_none());
         // A subset reached with no greater length dominates: {0} at length 1 beats {0,1} at 2.
         let mut h = g.clone();
         h.add_edge(0, 1, 2.0, Lab::Known(set(&[0, 1])));
-        assert_eq!(fewest_removals(&h, 0, 3).unwrap().set, set(&[1]));
+        assert_eq!(fewest_removals(&h, 0, 3, u32::MAX).unwrap().set, set(&[1]));
     }
 
     #[test]
@@ -313,11 +324,11 @@ mod tests {
         g.add_edge(1, 3, 1.0, Lab::Known(0));
         g.add_edge(0, 2, 1.0, Lab::Known(0));
         g.add_edge(2, 3, 1.0, Lab::Known(0));
-        let f = fewest_removals(&g, 0, 3).unwrap();
+        let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
         assert_eq!(f.set, set(&[3]));
         assert_eq!(fewest_vertices(&g, 0, 3).unwrap().verts, vec![0, 2, 3]);
         g.vlab[2] = Lab::Blocked;
-        assert!(fewest_removals(&g, 0, 3).is_none());
+        assert!(fewest_removals(&g, 0, 3, u32::MAX).is_none());
         assert!(fewest_vertices(&g, 0, 3).is_none());
     }
 
@@ -350,7 +361,7 @@ mod tests {
                 };
                 g.add_edge(a, b, 1.0 + rnd(3) as f64, lab);
             }
-            let mcr = fewest_removals(&g, 0, n as u32 - 1).map(|f| f.set.count_ones() as usize);
+            let mcr = fewest_removals(&g, 0, n as u32 - 1, u32::MAX).map(|f| f.set.count_ones() as usize);
             let brute = (0u32..32).filter(|m| path_within(&g, *m, n as u32 - 1)).map(|m| m.count_ones() as usize).min();
             assert_eq!(mcr, brute);
         }
