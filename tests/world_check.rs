@@ -187,3 +187,32 @@ fn world_is_send_and_sync() {
     fn is<T: Send + Sync>() {}
     is::<World>();
 }
+
+#[test]
+fn tolerance_boundary_is_the_same_for_boxes_and_cylinders() {
+    let t = CONTACT_TOLERANCE;
+    // Link 1 (box, |y| <= 0.02) along +x; objects beside it reaching into it by 0.5 t or 1.5 t.
+    let objects = vec![
+        object(cuboid("box_shallow", [0.05, 0.05, 0.05], at(0.1, 0.02 + 0.025 - 0.5 * t, 0.0)), vec![]),
+        object(cuboid("box_deep", [0.05, 0.05, 0.05], at(0.3, -0.02 - 0.025 + 1.5 * t, 0.0)), vec![]),
+        object(
+            body(
+                "can_shallow",
+                declutter::resolve::Shape::Cylinder { radius: 0.03, length: 0.1 },
+                at(0.5, 0.05 - 0.5 * t, 0.0),
+            ),
+            vec![],
+        ),
+        object(
+            body(
+                "can_deep",
+                declutter::resolve::Shape::Cylinder { radius: 0.03, length: 0.1 },
+                at(0.6, -0.05 + 1.5 * t, 0.0),
+            ),
+            vec![],
+        ),
+    ];
+    let scn = scenario(vec![robot("p", planar3(), vec![0.0, 0.0, 0.0], None)], vec![], vec![], objects);
+    let w = make(&scn, 0);
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &CheckCtx::new()), Check::Touches(set(&[1, 3])));
+}

@@ -131,8 +131,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let mut parts = Vec::new();
         for part in &o.body.parts {
             if let Some(p) = ctx.part(&part.shape, &part.pose_body_part, &o.body.name, &mut meshes) {
-                let world =
-                    Placed { shape: p.shape.clone(), pose: super::shapes::to_ppose(&o.body.pose_world_body) * p.pose };
+                let world = Placed::new(p.shape.clone(), super::shapes::to_ppose(&o.body.pose_world_body) * p.pose);
                 statics.push(Entry::new(Owner::Object(ObjectId(i as u32)), world));
                 parts.push(p);
             }
@@ -154,7 +153,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             .iter()
             .map(|s| {
                 let pose = super::shapes::to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
-                Entry::new(Owner::Robot(RobotId(ri as u32), s.body), Placed { shape: s.placed.shape.clone(), pose })
+                Entry::new(Owner::Robot(RobotId(ri as u32), s.body), Placed::new(s.placed.shape.clone(), pose))
             })
             .collect();
         at_home.push(entries);
