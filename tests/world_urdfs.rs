@@ -105,3 +105,22 @@ fn real_tx90_builds_into_a_world_with_self_collision_sampling() {
     let r = RobotId(0);
     assert!(!w.check(r, &[0.0; 6], &declutter::world::CheckCtx::new()).is_blocked());
 }
+
+#[test]
+fn real_tx90_meshes_collide_with_a_table_in_both_mesh_modes() {
+    let Some(root) = shared_robots() else { return };
+    for mode in [MeshMode::ConvexHull, MeshMode::TriMesh] {
+        let table = cuboid("table", [1.0, 1.0, 0.1], at(0.9, 0.0, 0.40));
+        let scn =
+            scenario(vec![robot("tx90", root.join("tx90/tx90.urdf"), vec![0.0; 6], None)], vec![], vec![table], vec![]);
+        let opts = WorldOptions { mesh_mode: mode, self_collision_samples: 300, ..WorldOptions::default() };
+        let w = build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
+        let ctx = declutter::world::CheckCtx::new();
+        assert!(!w.check(RobotId(0), &[0.0; 6], &ctx).is_blocked(), "{mode:?}");
+        let c = w.check(RobotId(0), &[0.0, 1.5707963267948966, 0.0, 0.0, 0.0, 0.0], &ctx);
+        assert!(
+            matches!(&c, declutter::world::Check::Blocked(declutter::world::Blocker::Fixed { body, .. }) if body.0 == 0),
+            "{mode:?}: {c:?}"
+        );
+    }
+}
