@@ -117,7 +117,7 @@ fn real_tx90_meshes_collide_with_a_table_in_both_mesh_modes() {
         let w = build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
         let ctx = declutter::world::CheckCtx::new();
         assert!(!w.check(RobotId(0), &[0.0; 6], &ctx).is_blocked(), "{mode:?}");
-        let c = w.check(RobotId(0), &[0.0, 1.5707963267948966, 0.0, 0.0, 0.0, 0.0], &ctx);
+        let c = w.check(RobotId(0), &[0.0, std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0, 0.0], &ctx);
         assert!(
             matches!(&c, declutter::world::Check::Blocked(declutter::world::Blocker::Fixed { body, .. }) if body.0 == 0),
             "{mode:?}: {c:?}"
