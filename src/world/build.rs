@@ -86,10 +86,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
         if let Some((h, hm)) = hand {
             let moving = flange_group != root_group;
-            for (name, placed) in &hm.bodies {
-                let full = format!("{}/{}", scn.hands[h.index()].name, name);
-                push_body(&mut shapes, &mut bodies, &full, chain.flange, placed.clone(), moving, true);
-            }
+            // The hand is rigid: one body, named after the hand, for all its links.
+            let placed: Vec<Placed> = hm.bodies.iter().flat_map(|(_, p)| p.iter().cloned()).collect();
+            push_body(&mut shapes, &mut bodies, &scn.hands[h.index()].name, chain.flange, placed, moving, true);
         }
         let what = |n: &str| n.to_string();
         let home = ctx.joint_values(r.name.as_str(), &what("home"), &r.home, &chain);

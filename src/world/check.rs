@@ -320,10 +320,7 @@ pub(crate) fn self_pairs(
     let adjacent = |ga: usize, gb: usize| {
         links[gb].parent.map(|p| links[p].group) == Some(ga) || links[ga].parent.map(|p| links[p].group) == Some(gb)
     };
-    let is_allowed = |a: &str, b: &str| {
-        let hit = |x: &str, y: &str| x == y || y.split('/').next() == Some(x);
-        allowed.iter().any(|(x, y)| (hit(x, a) && hit(y, b)) || (hit(x, b) && hit(y, a)))
-    };
+    let is_allowed = |a: &str, b: &str| allowed.iter().any(|(x, y)| (x == a && y == b) || (x == b && y == a));
     let mut pairs = Vec::new();
     for a in 0..m.bodies.len() {
         for b in a + 1..m.bodies.len() {

@@ -185,3 +185,31 @@ pub(crate) fn resolve_uri(
         Err(vec![p])
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primitives_are_eroded_meshes_not() {
+        for s in [
+            SharedShape::cuboid(0.1, 0.2, 0.3),
+            SharedShape::ball(0.1),
+            SharedShape::cylinder(0.1, 0.05),
+            SharedShape::capsule_z(0.1, 0.02),
+        ] {
+            let p = Placed::new(s, PPose::IDENTITY);
+            let e = p.eroded.expect("eroded");
+            let (a, b) = (p.shape.compute_local_aabb(), e.compute_local_aabb());
+            assert!(((a.maxs - b.maxs).min_element() - 1e-3).abs() < 1e-12, "{a:?} {b:?}");
+        }
+        let hull = SharedShape::convex_hull(&[
+            PVec::new(0.0, 0.0, 0.0),
+            PVec::new(1.0, 0.0, 0.0),
+            PVec::new(0.0, 1.0, 0.0),
+            PVec::new(0.0, 0.0, 1.0),
+        ])
+        .unwrap();
+        assert!(Placed::new(hull, PPose::IDENTITY).eroded.is_none());
+    }
+}
