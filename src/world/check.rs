@@ -264,7 +264,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
                 let hit = b
                     .shapes
                     .clone()
-                    .any(|si| collide(&s.shape_pose[si], &*m.shapes[si].placed.shape.0, &s.held_pose[pi], &*p.shape.0));
+                    .any(|si| collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*m.shapes[si].placed.shape.0));
                 if hit {
                     return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
                 }
@@ -277,13 +277,13 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
 fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
     m.bodies[a].shapes.clone().any(|i| {
         m.bodies[b].shapes.clone().any(|j| {
+            let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
-                && collide(
-                    &s.shape_pose[i],
-                    &*m.shapes[i].placed.shape.0,
-                    &s.shape_pose[j],
-                    &*m.shapes[j].placed.shape.0,
-                )
+                && if pa.eroded.is_some() || pb.eroded.is_none() {
+                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0)
+                } else {
+                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0)
+                }
         })
     })
 }
