@@ -187,3 +187,57 @@ fn world_is_send_and_sync() {
     fn is<T: Send + Sync>() {}
     is::<World>();
 }
+
+#[test]
+fn tolerance_boundary_is_the_same_for_boxes_and_cylinders() {
+    let t = CONTACT_TOLERANCE;
+    // Link 1 (box, |y| <= 0.02) along +x; objects beside it reaching into it by 0.5 t or 1.5 t.
+    let objects = vec![
+        object(cuboid("box_shallow", [0.05, 0.05, 0.05], at(0.1, 0.02 + 0.025 - 0.5 * t, 0.0)), vec![]),
+        object(cuboid("box_deep", [0.05, 0.05, 0.05], at(0.3, -0.02 - 0.025 + 1.5 * t, 0.0)), vec![]),
+        object(
+            body(
+                "can_shallow",
+                declutter::resolve::Shape::Cylinder { radius: 0.03, length: 0.1 },
+                at(0.5, 0.05 - 0.5 * t, 0.0),
+            ),
+            vec![],
+        ),
+        object(
+            body(
+                "can_deep",
+                declutter::resolve::Shape::Cylinder { radius: 0.03, length: 0.1 },
+                at(0.6, -0.05 + 1.5 * t, 0.0),
+            ),
+            vec![],
+        ),
+    ];
+    let scn = scenario(vec![robot("p", planar3(), vec![0.0, 0.0, 0.0], None)], vec![], vec![], objects);
+    let w = make(&scn, 0);
+    assert_eq!(w.check(R0, &[0.0, 0.0, 0.0], &CheckCtx::new()), Check::Touches(set(&[1, 3])));
+}
+
+/// Three links turning about the same z axis; links 1 and 3 are boxes around the axis,
+/// so they overlap at every configuration though they are not adjacent.
+const ALWAYS: &str = r#"<robot name="stack">
+<link name="base"/>
+<link name="l1"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+<link name="l2"/>
+<link name="l3"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+<joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><axis xyz="0 0 1"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>"#;
+
+#[test]
+fn pairs_always_in_collision_are_found_by_sampling() {
+    let loader = declutter::diag::MemLoader::new().with("/m/stack.urdf", ALWAYS);
+    let scn = scenario(vec![robot("s", "/m/stack.urdf", vec![0.0; 3], None)], vec![], vec![], vec![]);
+    // Without sampling, l1 and l3 collide at home: an error.
+    let errs = build(&scn, &opts(0), &loader).err().expect("home collides");
+    assert!(errs[0].to_string().contains("`l1` and `l3` collide"), "{}", errs[0]);
+    // Sampling finds them in collision everywhere and stops checking the pair.
+    let w = build(&scn, &opts(200), &loader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(w.limits(R0)[1], (-std::f64::consts::TAU, std::f64::consts::TAU), "continuous joint");
+    assert_eq!(w.check(R0, &[1.0, 2.0, -1.0], &CheckCtx::new()), Check::free());
+}

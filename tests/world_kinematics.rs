@@ -121,3 +121,23 @@ fn ik_is_deterministic_and_solutions_distinct() {
         }
     }
 }
+
+#[test]
+fn tx90_with_hand_self_collision_pairs() {
+    let scn = scenario(
+        vec![robot("tx90", tx90(), vec![0.0; 6], Some(HandId(0)))],
+        vec![hand("sah", sah(), 0.16)],
+        vec![],
+        vec![],
+    );
+    let w = build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let pairs = w.self_collision_pairs(R0);
+    println!("{pairs:?}");
+    // Adjacent links and the hand against the flange link are never checked.
+    for (a, b) in &pairs {
+        assert!(!(a == &"link_5" && b == &"sah"), "{a} {b}");
+        assert!(!(a == &"link_2" && b == &"link_3"), "{a} {b}");
+    }
+    // The hand can hit the upper arm and the forearm: those pairs stay.
+    assert!(pairs.contains(&("link_2", "sah")) && pairs.contains(&("link_4", "sah")), "{pairs:?}");
+}

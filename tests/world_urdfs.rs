@@ -105,3 +105,65 @@ fn real_tx90_builds_into_a_world_with_self_collision_sampling() {
     let r = RobotId(0);
     assert!(!w.check(r, &[0.0; 6], &declutter::world::CheckCtx::new()).is_blocked());
 }
+
+#[test]
+fn real_tx90_meshes_collide_with_a_table_in_both_mesh_modes() {
+    let Some(root) = shared_robots() else { return };
+    for mode in [MeshMode::ConvexHull, MeshMode::TriMesh] {
+        let table = cuboid("table", [1.0, 1.0, 0.1], at(0.9, 0.0, 0.40));
+        let scn =
+            scenario(vec![robot("tx90", root.join("tx90/tx90.urdf"), vec![0.0; 6], None)], vec![], vec![table], vec![]);
+        let opts = WorldOptions { mesh_mode: mode, self_collision_samples: 300, ..WorldOptions::default() };
+        let w = build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
+        let ctx = declutter::world::CheckCtx::new();
+        assert!(!w.check(RobotId(0), &[0.0; 6], &ctx).is_blocked(), "{mode:?}");
+        let c = w.check(RobotId(0), &[0.0, std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0, 0.0], &ctx);
+        assert!(
+            matches!(&c, declutter::world::Check::Blocked(declutter::world::Blocker::Fixed { body, .. }) if body.0 == 0),
+            "{mode:?}: {c:?}"
+        );
+    }
+}
+
+#[test]
+fn shipped_tx90_encloses_the_real_collision_meshes() {
+    use declutter::resolve::{ObjectId, Shape};
+    use declutter::world::{Check, CheckCtx};
+    let Some(root) = shared_robots() else { return };
+    let real = load(&root.join("tx90/tx90.urdf"), MeshMode::ConvexHull);
+    let configs = [
+        [0.0; 6],
+        [0.5, -0.6, 1.2, 0.8, -0.9, 1.5],
+        [-1.0, 0.9, -1.3, -2.0, 1.2, 0.3],
+        [2.0, 0.2, 0.4, 1.0, 0.5, -2.0],
+    ];
+    for q in configs {
+        let poses = real.fk_links(&q);
+        let mut probes = Vec::new();
+        // The base never moves and is not checked against the scene: probe the moving links.
+        for link in ["link_1", "link_2", "link_3", "link_4", "link_5", "link_6"] {
+            let pose = poses.iter().find(|(n, _)| n == link).unwrap().1;
+            let p = root.join(format!("tx90/tx90/meshes/collision/{link}.stl"));
+            let bytes = std::fs::read(&p).unwrap();
+            let scene = mesh_loader::Loader::default().merge_meshes(true).load_from_slice(&bytes, &p).unwrap();
+            let v = &scene.meshes[0].vertices;
+            for x in v.iter().step_by(v.len() / 60 + 1) {
+                let pt = pose * nalgebra::Point3::new(x[0] as f64, x[1] as f64, x[2] as f64);
+                let b = body(link, Shape::Sphere { radius: 0.002 }, at(pt.x, pt.y, pt.z));
+                probes.push(declutter::resolve::Object { body: b, grasps: vec![] });
+            }
+        }
+        let n = probes.len();
+        let names: Vec<String> = probes.iter().map(|o| o.body.name.clone()).collect();
+        let scn = scenario(vec![robot("t", tx90(), vec![0.0; 6], None)], vec![], vec![], probes);
+        let opts = WorldOptions { self_collision_samples: 0, ..WorldOptions::default() };
+        let w = build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
+        let Check::Touches(s) = w.check(RobotId(0), &q, &CheckCtx::new()) else { panic!("{q:?} blocked") };
+        let missed: Vec<&String> = (0..n).filter(|&i| !s.contains(ObjectId(i as u32))).map(|i| &names[i]).collect();
+        assert!(
+            missed.is_empty(),
+            "q {q:?}: {} of {n} mesh vertices outside the shipped model: {missed:?}",
+            missed.len()
+        );
+    }
+}

@@ -5,6 +5,17 @@
 //! objects into an assignment of remove-actions. The two meet only through
 //! [`Oracle`], so the graph logic can be tested on hand-built answers.
 
+mod knn;
+mod planner;
+mod prm;
+mod roadmap;
+mod search;
+mod space;
+
+pub use planner::{Planner, RobotSpace};
+pub use prm::{PrmOptions, RobotPlanner};
+pub use space::{Mode, Space};
+
 use serde::Serialize;
 
 pub mod andor;

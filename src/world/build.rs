@@ -86,10 +86,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
         if let Some((h, hm)) = hand {
             let moving = flange_group != root_group;
-            for (name, placed) in &hm.bodies {
-                let full = format!("{}/{}", scn.hands[h.index()].name, name);
-                push_body(&mut shapes, &mut bodies, &full, chain.flange, placed.clone(), moving, true);
-            }
+            // The hand is rigid: one body, named after the hand, for all its links.
+            let placed: Vec<Placed> = hm.bodies.iter().flat_map(|(_, p)| p.iter().cloned()).collect();
+            push_body(&mut shapes, &mut bodies, &scn.hands[h.index()].name, chain.flange, placed, moving, true);
         }
         let what = |n: &str| n.to_string();
         let home = ctx.joint_values(r.name.as_str(), &what("home"), &r.home, &chain);
@@ -131,8 +130,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let mut parts = Vec::new();
         for part in &o.body.parts {
             if let Some(p) = ctx.part(&part.shape, &part.pose_body_part, &o.body.name, &mut meshes) {
-                let world =
-                    Placed { shape: p.shape.clone(), pose: super::shapes::to_ppose(&o.body.pose_world_body) * p.pose };
+                let world = Placed::new(p.shape.clone(), super::shapes::to_ppose(&o.body.pose_world_body) * p.pose);
                 statics.push(Entry::new(Owner::Object(ObjectId(i as u32)), world));
                 parts.push(p);
             }
@@ -154,7 +152,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             .iter()
             .map(|s| {
                 let pose = super::shapes::to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
-                Entry::new(Owner::Robot(RobotId(ri as u32), s.body), Placed { shape: s.placed.shape.clone(), pose })
+                Entry::new(Owner::Robot(RobotId(ri as u32), s.body), Placed::new(s.placed.shape.clone(), pose))
             })
             .collect();
         at_home.push(entries);

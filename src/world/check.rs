@@ -3,9 +3,11 @@
 //!
 //! Broad phase: the AABB of each moving body against a parry BVH of everything
 //! static for that robot (fixed bodies, removable objects, other robots at home).
-//! Narrow phase: `intersection_test`, then — only for pairs that intersect —
-//! `contact` to measure the depth: contacts shallower than [`CONTACT_TOLERANCE`]
-//! are not collisions, so a can standing on the table does not touch it.
+//! Narrow phase: overlaps shallower than [`CONTACT_TOLERANCE`] are not collisions,
+//! so a can standing on the table does not touch it. A moving primitive (box,
+//! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
+//! tested with one `intersection_test`; a mesh hull is tested with
+//! `intersection_test`, then `contact` measures the depth of pairs that intersect.
 
 use std::cell::{Cell, RefCell};
 
@@ -109,6 +111,16 @@ pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) ->
     }
 }
 
+/// Collision of a moving shape (robot or carried) with another: by its eroded
+/// primitive when it has one (one intersection test), else by contact depth.
+#[inline]
+fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape) -> bool {
+    match &moving.eroded {
+        Some(e) => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
+        None => collide(p1, &*moving.shape.0, p2, s2),
+    }
+}
+
 /// Per-thread buffers, so a check allocates nothing once warm.
 #[derive(Default)]
 struct Scratch {
@@ -182,7 +194,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
             }
             let hit = b.shapes.clone().any(|si| {
                 s.shape_aabb[si].intersects(&e.aabb)
-                    && collide(&s.shape_pose[si], &*m.shapes[si].placed.shape.0, &e.pose, &*e.shape.0)
+                    && collide_moving(&s.shape_pose[si], &m.shapes[si].placed, &e.pose, &*e.shape.0)
             });
             if hit {
                 match e.owner {
@@ -230,7 +242,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
                         continue;
                     }
                 }
-                if !collide(&s.held_pose[pi], &*p.shape.0, &e.pose, &*e.shape.0) {
+                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0) {
                     continue;
                 }
                 match e.owner {
@@ -252,7 +264,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
                 let hit = b
                     .shapes
                     .clone()
-                    .any(|si| collide(&s.shape_pose[si], &*m.shapes[si].placed.shape.0, &s.held_pose[pi], &*p.shape.0));
+                    .any(|si| collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*m.shapes[si].placed.shape.0));
                 if hit {
                     return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
                 }
@@ -265,13 +277,13 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
 fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
     m.bodies[a].shapes.clone().any(|i| {
         m.bodies[b].shapes.clone().any(|j| {
+            let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
-                && collide(
-                    &s.shape_pose[i],
-                    &*m.shapes[i].placed.shape.0,
-                    &s.shape_pose[j],
-                    &*m.shapes[j].placed.shape.0,
-                )
+                && if pa.eroded.is_some() || pb.eroded.is_none() {
+                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0)
+                } else {
+                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0)
+                }
         })
     })
 }
@@ -308,10 +320,7 @@ pub(crate) fn self_pairs(
     let adjacent = |ga: usize, gb: usize| {
         links[gb].parent.map(|p| links[p].group) == Some(ga) || links[ga].parent.map(|p| links[p].group) == Some(gb)
     };
-    let is_allowed = |a: &str, b: &str| {
-        let hit = |x: &str, y: &str| x == y || y.split('/').next() == Some(x);
-        allowed.iter().any(|(x, y)| (hit(x, a) && hit(y, b)) || (hit(x, b) && hit(y, a)))
-    };
+    let is_allowed = |a: &str, b: &str| allowed.iter().any(|(x, y)| (x == a && y == b) || (x == b && y == a));
     let mut pairs = Vec::new();
     for a in 0..m.bodies.len() {
         for b in a + 1..m.bodies.len() {

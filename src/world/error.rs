@@ -101,7 +101,7 @@ pub enum WorldError {
         value: f64,
         lower: f64,
         upper: f64,
-        #[label("value {index} is out of range")]
+        #[label("`{joint}` must lie in [{lower}, {upper}]")]
         span: Span,
         index: usize,
     },

@@ -85,6 +85,12 @@ impl World {
         m.chain.fk_into(q, &mut out);
         m.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), m.pose_world_base * p)).collect()
     }
+    /// The link pairs checked for self-collision (after removing adjacent, rigidly
+    /// joined, allowed, and — when sampling — always- or never-colliding pairs).
+    pub fn self_collision_pairs(&self, r: RobotId) -> Vec<(&str, &str)> {
+        let m = &self.robots[r.index()];
+        m.self_pairs.iter().map(|&(a, b)| (m.bodies[a].name.as_str(), m.bodies[b].name.as_str())).collect()
+    }
     /// Up to `max_solutions` distinct in-limit configurations putting the TCP at
     /// `pose_world_tcp`, deterministic for a given `seed`.
     pub fn ik(&self, r: RobotId, pose_world_tcp: &Pose, seed: u64, max_solutions: usize) -> Vec<Config> {

@@ -28,6 +28,35 @@ pub enum MeshMode {
 pub(crate) struct Placed {
     pub shape: SharedShape,
     pub pose: PPose,
+    /// The shape eroded by the contact tolerance, for primitives: two shapes overlap
+    /// deeper than the tolerance exactly when the eroded one meets the other.
+    pub eroded: Option<SharedShape>,
+}
+
+impl Placed {
+    pub fn new(shape: SharedShape, pose: PPose) -> Placed {
+        let eroded = erode(&shape, super::check::CONTACT_TOLERANCE);
+        Placed { shape, pose, eroded }
+    }
+}
+
+/// A primitive shrunk by `t` on every side (never below half its size); `None` for meshes.
+fn erode(s: &SharedShape, t: f64) -> Option<SharedShape> {
+    let shrink = |x: f64| (x - t).max(x / 2.0);
+    if let Some(c) = s.as_cuboid() {
+        let h = c.half_extents;
+        return Some(SharedShape::cuboid(shrink(h.x), shrink(h.y), shrink(h.z)));
+    }
+    if let Some(b) = s.as_ball() {
+        return Some(SharedShape::ball(shrink(b.radius)));
+    }
+    if let Some(c) = s.as_cylinder() {
+        return Some(SharedShape::cylinder(shrink(c.half_height), shrink(c.radius)));
+    }
+    if let Some(c) = s.as_capsule() {
+        return Some(SharedShape::capsule(c.segment.a, c.segment.b, shrink(c.radius)));
+    }
+    None
 }
 
 /// A primitive or mesh, before placement.
@@ -71,7 +100,7 @@ impl<'l> MeshCache<'l> {
             Geometry::Sphere(r) => (SharedShape::ball(*r), Isometry3::identity()),
             Geometry::Mesh { path, scale } => (self.mesh(path, scale)?, Isometry3::identity()),
         };
-        Ok(Placed { shape, pose: to_ppose(&(pose_frame_geom * local)) })
+        Ok(Placed::new(shape, to_ppose(&(pose_frame_geom * local))))
     }
 
     fn mesh(&mut self, path: &Path, scale: &Vector3<f64>) -> Result<SharedShape, String> {
@@ -154,5 +183,33 @@ pub(crate) fn resolve_uri(
         Ok(p)
     } else {
         Err(vec![p])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primitives_are_eroded_meshes_not() {
+        for s in [
+            SharedShape::cuboid(0.1, 0.2, 0.3),
+            SharedShape::ball(0.1),
+            SharedShape::cylinder(0.1, 0.05),
+            SharedShape::capsule_z(0.1, 0.02),
+        ] {
+            let p = Placed::new(s, PPose::IDENTITY);
+            let e = p.eroded.expect("eroded");
+            let (a, b) = (p.shape.compute_local_aabb(), e.compute_local_aabb());
+            assert!(((a.maxs - b.maxs).min_element() - 1e-3).abs() < 1e-12, "{a:?} {b:?}");
+        }
+        let hull = SharedShape::convex_hull(&[
+            PVec::new(0.0, 0.0, 0.0),
+            PVec::new(1.0, 0.0, 0.0),
+            PVec::new(0.0, 1.0, 0.0),
+            PVec::new(0.0, 0.0, 1.0),
+        ])
+        .unwrap();
+        assert!(Placed::new(hull, PPose::IDENTITY).eroded.is_none());
     }
 }

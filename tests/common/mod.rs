@@ -1,6 +1,8 @@
 //! Hand-built scenarios and table oracles for the AND/OR graph tests.
 #![allow(dead_code)]
 
+pub mod planar;
+
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::PathBuf;

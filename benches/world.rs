@@ -1,0 +1,119 @@
+//! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
+//! removable objects, cycling through 256 seeded random configurations.
+
+use std::hint::black_box;
+use std::path::PathBuf;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use declutter::diag::{FileId, FsLoader, Span};
+use declutter::resolve::*;
+use declutter::world::{build, CheckCtx, World, WorldOptions};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn at(x: f64, y: f64, z: f64) -> Pose {
+    Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+}
+
+fn body(name: String, shape: Shape, pose: Pose) -> Body {
+    Body {
+        name,
+        span: Span::default(),
+        pose_world_body: pose,
+        parts: vec![Part { shape, pose_world_part: pose, pose_body_part: Pose::identity(), span: Span::default() }],
+    }
+}
+
+fn file(p: PathBuf) -> FileRef {
+    FileRef { written: p.display().to_string(), path: p, span: Span::new(FileId(0), 0, 1) }
+}
+
+fn world(objects: usize) -> World {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let hand = Hand {
+        name: "sah".into(),
+        span: Span::default(),
+        urdf: file(root.join("examples/hands/sah.urdf")),
+        pose_flange_tcp: at(0.0, 0.0, 0.16),
+    };
+    let home = vec![0.0, 0.0, 90f64.to_radians(), 0.0, 0.0, 0.0];
+    let robot = Robot {
+        name: "tx90".into(),
+        span: Span::default(),
+        urdf: file(root.join("examples/robots/tx90.urdf")),
+        pose_world_base: Pose::identity(),
+        hand: Some(HandId(0)),
+        flange: None,
+        home: JointValues { values: home, span: Span::default() },
+        drop: None,
+        allow_contact: vec![],
+    };
+    // Table top at z 0.40 in front of the robot; objects standing on it in a grid.
+    let table = body("table".into(), Shape::Box { size: Vector3::new(1.2, 1.6, 0.1) }, at(0.95, 0.0, 0.35));
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let objs = (0..objects)
+        .map(|i| {
+            let (x, y) = (rng.random_range(0.45..1.5), rng.random_range(-0.75..0.75));
+            let shape = if i % 2 == 0 {
+                Shape::Cylinder { radius: 0.033, length: 0.12 }
+            } else {
+                Shape::Box { size: Vector3::new(0.06, 0.08, 0.1) }
+            };
+            Object { body: body(format!("o{i}"), shape, at(x, y, 0.46)), grasps: vec![] }
+        })
+        .collect();
+    let scn = Scenario {
+        name: None,
+        root: root.join("bench.dcl"),
+        hands: vec![hand],
+        robots: vec![robot],
+        fixed: vec![table],
+        objects: objs,
+        target: Target::Object { object: ObjectId(0), span: Span::default() },
+        planner: PlannerSettings::default(),
+    };
+    build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
+}
+
+fn configs(w: &World) -> Vec<Vec<f64>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let lim = w.limits(RobotId(0)).to_vec();
+    (0..256).map(|_| lim.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect()).collect()
+}
+
+fn bench(c: &mut Criterion) {
+    for n in [10, 200] {
+        let w = world(n);
+        let qs = configs(&w);
+        let ctx = CheckCtx::new();
+        let (mut blocked, mut touching) = (0, 0);
+        for q in &qs {
+            match w.check(RobotId(0), q, &ctx) {
+                declutter::world::Check::Blocked(_) => blocked += 1,
+                declutter::world::Check::Touches(s) if !s.is_empty() => touching += 1,
+                _ => {}
+            }
+        }
+        eprintln!("{n} objects: of {} configurations {blocked} blocked, {touching} touch objects", qs.len());
+        let mut i = 0;
+        c.bench_function(&format!("check_tx90_sah_table_{n}_objects"), |b| {
+            b.iter(|| {
+                i = (i + 1) % qs.len();
+                black_box(w.check(RobotId(0), black_box(&qs[i]), &ctx))
+            })
+        });
+        // Free configurations only: the full cost of a check that finds nothing fixed.
+        let free: Vec<_> = qs.iter().filter(|q| !w.check(RobotId(0), q, &ctx).is_blocked()).cloned().collect();
+        let mut j = 0;
+        c.bench_function(&format!("check_tx90_sah_table_{n}_objects_unblocked"), |b| {
+            b.iter(|| {
+                j = (j + 1) % free.len();
+                black_box(w.check(RobotId(0), black_box(&free[j]), &ctx))
+            })
+        });
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

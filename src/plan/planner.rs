@@ -1,0 +1,105 @@
+//! The planner over a [`World`]: one lazily grown PRMwO roadmap per robot, answering
+//! `findPath` queries for every object and target configuration of that robot.
+
+use std::cell::Cell;
+
+use super::prm::{PrmOptions, RobotPlanner};
+use super::space::{Mode, Space};
+use super::{Answer, Goal, Oracle};
+use crate::resolve::{ObjectId, Objective, PlannerSettings, RobotId};
+use crate::world::{Check, CheckCtx, GraspConfig, Held, World};
+
+/// One robot of a world as a [`Space`]; the other robots stand at home.
+pub struct RobotSpace<'w> {
+    world: &'w World,
+    robot: RobotId,
+}
+
+impl<'w> RobotSpace<'w> {
+    pub fn new(world: &'w World, robot: RobotId) -> Self {
+        RobotSpace { world, robot }
+    }
+}
+
+fn ctx(mode: &Mode) -> CheckCtx {
+    CheckCtx { absent: mode.absent.clone(), held: mode.held.clone(), checks: Cell::new(0) }
+}
+
+impl Space for RobotSpace<'_> {
+    fn dof(&self) -> usize {
+        self.world.dof(self.robot)
+    }
+    fn limits(&self) -> &[(f64, f64)] {
+        self.world.limits(self.robot)
+    }
+    fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check(self.robot, q, &c);
+        *checks += c.count();
+        out
+    }
+    fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check_segment(self.robot, a, b, step, &c);
+        *checks += c.count();
+        out
+    }
+    fn home(&self) -> &[f64] {
+        self.world.home(self.robot)
+    }
+    fn drop_config(&self) -> &[f64] {
+        self.world.drop_config(self.robot)
+    }
+    fn grasps(&self, o: ObjectId) -> Vec<GraspConfig> {
+        self.world.select_grasps(self.robot, o)
+    }
+    fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held {
+        self.world.held(self.robot, o, q_grasp)
+    }
+}
+
+/// PRMwO roadmaps for every robot of a world. Queries for one robot share its
+/// roadmap; queries may come from several threads.
+pub struct Planner<'w> {
+    world: &'w World,
+    settings: PlannerSettings,
+    robots: Vec<RobotPlanner<RobotSpace<'w>>>,
+}
+
+impl<'w> Planner<'w> {
+    pub fn new(world: &'w World, settings: &PlannerSettings) -> Self {
+        Planner::with_options(world, settings, &PrmOptions::default())
+    }
+
+    pub fn with_options(world: &'w World, settings: &PlannerSettings, opts: &PrmOptions) -> Self {
+        let robots = world
+            .scenario()
+            .robot_ids()
+            .map(|r| RobotPlanner::new(RobotSpace::new(world, r), settings, opts, r.0 as u64))
+            .collect();
+        Planner { world, settings: settings.clone(), robots }
+    }
+
+    /// The roadmap planner of one robot.
+    pub fn robot(&self, r: RobotId) -> &RobotPlanner<RobotSpace<'w>> {
+        &self.robots[r.index()]
+    }
+
+    /// `findPath` with an explicit objective, on the same roadmap as every other query.
+    pub fn find_path_with(&self, robot: RobotId, goal: &Goal, objective: Objective) -> Answer {
+        let mut a = self.robots[robot.index()].query_with(goal, objective);
+        let scn = self.world.scenario();
+        a.stats.robot = scn.robot(robot).name.clone();
+        a.stats.object = match goal {
+            Goal::Grasp(o) => scn.object(*o).body.name.clone(),
+            Goal::Reach(q) => format!("{:?}", q.0),
+        };
+        a
+    }
+}
+
+impl Oracle for Planner<'_> {
+    fn find_path(&self, robot: RobotId, goal: &Goal) -> Answer {
+        self.find_path_with(robot, goal, self.settings.objective)
+    }
+}

@@ -1,0 +1,391 @@
+//! Searches on a labelled graph: the minimum-constraint-removal search
+//! (`fewest_removals`) and the paper's fewest-vertices rule.
+//!
+//! Labels may be unknown (not yet checked): the search then uses a lower bound, a
+//! subset of the true label, and the caller checks the chosen path and searches again
+//! (lazy evaluation). Because true labels only grow, the first path whose labels are
+//! all known is optimal on the graph.
+
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+
+use crate::world::ObjectSet;
+
+/// A label set as the searches see it: bit i is object i. Objects with ids of 127 and
+/// above share bit 127, which can only make the search conservative for scenarios
+/// with more than 127 removable objects; reported sets are always the exact unions.
+pub(crate) type Mask = u128;
+
+pub(crate) fn mask(s: &ObjectSet) -> Mask {
+    s.iter().fold(0, |m, o| m | 1 << o.index().min(127))
+}
+
+fn subset(a: Mask, b: Mask) -> bool {
+    a & !b == 0
+}
+
+/// The label of a vertex or an edge.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Lab {
+    /// Not checked yet; the true label contains this set.
+    Unknown(Mask),
+    Known(Mask),
+    /// Hits something fixed.
+    Blocked,
+}
+
+impl Lab {
+    pub(crate) fn bound(&self) -> Option<Mask> {
+        match *self {
+            Lab::Unknown(s) | Lab::Known(s) => Some(s),
+            Lab::Blocked => None,
+        }
+    }
+    pub(crate) fn is_known(&self) -> bool {
+        !matches!(self, Lab::Unknown(_))
+    }
+}
+
+/// An undirected graph with labelled vertices and edges.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Graph {
+    /// Per vertex: (neighbour, edge).
+    pub adj: Vec<Vec<(u32, u32)>>,
+    pub vlab: Vec<Lab>,
+    pub elen: Vec<f64>,
+    pub elab: Vec<Lab>,
+}
+
+impl Graph {
+    pub(crate) fn add_vertex(&mut self, lab: Lab) -> u32 {
+        self.adj.push(Vec::new());
+        self.vlab.push(lab);
+        (self.vlab.len() - 1) as u32
+    }
+    pub(crate) fn add_edge(&mut self, a: u32, b: u32, len: f64, lab: Lab) -> u32 {
+        let e = self.elen.len() as u32;
+        self.elen.push(len);
+        self.elab.push(lab);
+        self.adj[a as usize].push((b, e));
+        self.adj[b as usize].push((a, e));
+        e
+    }
+}
+
+/// A path found by a search, with the union of the (bounds of the) labels on it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Found {
+    pub verts: Vec<u32>,
+    pub edges: Vec<u32>,
+    pub set: Mask,
+    pub len: f64,
+}
+
+/// A total order on f64 keys for the heaps (lengths are finite).
+#[derive(Clone, Copy, PartialEq)]
+struct Len(f64);
+impl Eq for Len {}
+impl PartialOrd for Len {
+    fn partial_cmp(&self, o: &Len) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Len {
+    fn cmp(&self, o: &Len) -> Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+struct State {
+    v: u32,
+    set: Mask,
+    len: f64,
+    parent: u32,
+    edge: u32,
+}
+
+/// Minimum-constraint removal: the path from `start` to `goal` whose union of labels is
+/// smallest, ties broken by length. A Dijkstra over (vertex, label set) ordered by
+/// (|set|, length), pruning a state when the same vertex was reached with a subset
+/// at no greater length. Exact on the graph; exponential only in the number of
+/// distinct label sets that reach a vertex.
+///
+/// States with `bound` or more objects are dropped: the caller already holds an
+/// answer that small, so only strictly smaller sets are worth finding.
+pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Found> {
+    let start_set = g.vlab[start as usize].bound()?;
+    if start_set.count_ones() >= bound {
+        return None;
+    }
+    let mut states = vec![State { v: start, set: start_set, len: 0.0, parent: u32::MAX, edge: u32::MAX }];
+    let mut alive = vec![true];
+    let mut fronts: Vec<Vec<u32>> = vec![Vec::new(); g.vlab.len()];
+    fronts[start as usize].push(0);
+    let mut heap = BinaryHeap::new();
+    heap.push(Reverse((states[0].set.count_ones(), Len(0.0), 0u32)));
+    while let Some(Reverse((_, _, id))) = heap.pop() {
+        if !alive[id as usize] {
+            continue;
+        }
+        let (v, set, len) = {
+            let s = &states[id as usize];
+            (s.v, s.set, s.len)
+        };
+        if v == goal {
+            return Some(unwind(&states, id));
+        }
+        for &(w, e) in &g.adj[v as usize] {
+            let (Some(el), Some(wl)) = (g.elab[e as usize].bound(), g.vlab[w as usize].bound()) else {
+                continue;
+            };
+            let s2 = set | el | wl;
+            if s2.count_ones() >= bound {
+                continue;
+            }
+            let l2 = len + g.elen[e as usize];
+            let front = &mut fronts[w as usize];
+            if front.iter().any(|&o| {
+                let o = &states[o as usize];
+                o.len <= l2 && subset(o.set, s2)
+            }) {
+                continue;
+            }
+            front.retain(|&o| {
+                let os = &states[o as usize];
+                let dominated = l2 <= os.len && subset(s2, os.set);
+                if dominated {
+                    alive[o as usize] = false;
+                }
+                !dominated
+            });
+            let nid = states.len() as u32;
+            heap.push(Reverse((s2.count_ones(), Len(l2), nid)));
+            states.push(State { v: w, set: s2, len: l2, parent: id, edge: e });
+            alive.push(true);
+            fronts[w as usize].push(nid);
+        }
+    }
+    None
+}
+
+fn unwind(states: &[State], mut id: u32) -> Found {
+    let last = &states[id as usize];
+    let (set, len) = (last.set, last.len);
+    let (mut verts, mut edges) = (Vec::new(), Vec::new());
+    loop {
+        let s = &states[id as usize];
+        verts.push(s.v);
+        if s.parent == u32::MAX {
+            break;
+        }
+        edges.push(s.edge);
+        id = s.parent;
+    }
+    verts.reverse();
+    edges.reverse();
+    Found { verts, edges, set, len }
+}
+
+/// The paper's rule: the path with the fewest vertices (ties broken by length),
+/// ignoring labels except blocks; its set is the union of the labels on it.
+pub(crate) fn fewest_vertices(g: &Graph, start: u32, goal: u32) -> Option<Found> {
+    g.vlab[start as usize].bound()?;
+    let n = g.vlab.len();
+    let mut best: Vec<(u32, f64)> = vec![(u32::MAX, f64::INFINITY); n];
+    let mut prev: Vec<(u32, u32)> = vec![(u32::MAX, u32::MAX); n];
+    let mut heap = BinaryHeap::new();
+    best[start as usize] = (0, 0.0);
+    heap.push(Reverse((0u32, Len(0.0), start)));
+    while let Some(Reverse((h, Len(l), v))) = heap.pop() {
+        if (h, l) != best[v as usize] {
+            continue;
+        }
+        if v == goal {
+            let (mut verts, mut edges) = (vec![v], Vec::new());
+            let mut u = v;
+            while u != start {
+                let (p, e) = prev[u as usize];
+                edges.push(e);
+                verts.push(p);
+                u = p;
+            }
+            verts.reverse();
+            edges.reverse();
+            let mut set = 0;
+            for &x in &verts {
+                set |= g.vlab[x as usize].bound().expect("unblocked");
+            }
+            for &e in &edges {
+                set |= g.elab[e as usize].bound().expect("unblocked");
+            }
+            return Some(Found { verts, edges, set, len: l });
+        }
+        for &(w, e) in &g.adj[v as usize] {
+            if g.elab[e as usize].bound().is_none() || g.vlab[w as usize].bound().is_none() {
+                continue;
+            }
+            let cand = (h + 1, l + g.elen[e as usize]);
+            let cur = best[w as usize];
+            if cand.0 < cur.0 || (cand.0 == cur.0 && cand.1 < cur.1) {
+                best[w as usize] = cand;
+                prev[w as usize] = (v, e);
+                heap.push(Reverse((cand.0, Len(cand.1), w)));
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::resolve::ObjectId;
+
+    fn set(ids: &[u32]) -> Mask {
+        mask(&ids.iter().map(|&i| ObjectId(i)).collect())
+    }
+
+    /// start 0, goal 3. Short route 0-1-3 touches {0,1}; long route 0-2-4-3 touches {2};
+    /// a blocked shortcut 0-3.
+    fn diamond() -> Graph {
+        let mut g = Graph::default();
+        for _ in 0..5 {
+            g.add_vertex(Lab::Known(0));
+        }
+        g.add_edge(0, 3, 0.5, Lab::Blocked);
+        g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
+        g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
+        g.add_edge(0, 2, 1.0, Lab::Known(0));
+        g.add_edge(2, 4, 1.0, Lab::Known(set(&[2])));
+        g.add_edge(4, 3, 1.0, Lab::Known(0));
+        g
+    }
+
+    #[test]
+    fn mcr_prefers_fewer_removals_over_fewer_vertices() {
+        let g = diamond();
+        let mcr = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
+        assert_eq!(mcr.verts, vec![0, 2, 4, 3]);
+        assert_eq!(mcr.set, set(&[2]));
+        let fv = fewest_vertices(&g, 0, 3).unwrap();
+        assert_eq!(fv.verts, vec![0, 1, 3]);
+        assert_eq!(fv.set, set(&[0, 1]));
+    }
+
+    #[test]
+    fn mcr_counts_repeated_labels_once() {
+        // Route A touches {5} on three edges; route B touches {6} then {7}.
+        let mut g = Graph::default();
+        for _ in 0..6 {
+            g.add_vertex(Lab::Known(0));
+        }
+        g.add_edge(0, 1, 1.0, Lab::Known(set(&[5])));
+        g.add_edge(1, 2, 1.0, Lab::Known(set(&[5])));
+        g.add_edge(2, 5, 1.0, Lab::Known(set(&[5])));
+        g.add_edge(0, 3, 0.1, Lab::Known(set(&[6])));
+        g.add_edge(3, 5, 0.1, Lab::Known(set(&[7])));
+        let f = fewest_removals(&g, 0, 5, u32::MAX).unwrap();
+        assert_eq!(f.set, set(&[5]));
+        assert_eq!(f.verts, vec![0, 1, 2, 5]);
+    }
+
+    #[test]
+    fn dominance_keeps_incomparable_sets() {
+        // Vertex 1 is reached cheaply with {0} and expensively with {1}; only {1}
+        // combines with the last edge's {1} into a one-object answer. Pruning by
+        // length alone would lose it.
+        let mut g = Graph::default();
+        for _ in 0..4 {
+            g.add_vertex(Lab::Known(0));
+        }
+        g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
+        g.add_edge(0, 2, 1.0, Lab::Known(set(&[1])));
+        g.add_edge(2, 1, 5.0, Lab::Known(0));
+        g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
+        let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
+        assert_eq!(f.set, set(&[1]));
+        assert_eq!(f.verts, vec![0, 2, 1, 3]);
+        // With an answer of one object in hand, nothing better exists.
+        assert!(fewest_removals(&g, 0, 3, 1).is_none());
+        // A subset reached with no greater length dominates: {0} at length 1 beats {0,1} at 2.
+        let mut h = g.clone();
+        h.add_edge(0, 1, 2.0, Lab::Known(set(&[0, 1])));
+        assert_eq!(fewest_removals(&h, 0, 3, u32::MAX).unwrap().set, set(&[1]));
+    }
+
+    #[test]
+    fn vertex_labels_count_and_blocked_vertices_are_avoided() {
+        let mut g = Graph::default();
+        g.add_vertex(Lab::Known(0));
+        g.add_vertex(Lab::Blocked);
+        g.add_vertex(Lab::Known(set(&[3])));
+        g.add_vertex(Lab::Known(0));
+        g.add_edge(0, 1, 1.0, Lab::Known(0));
+        g.add_edge(1, 3, 1.0, Lab::Known(0));
+        g.add_edge(0, 2, 1.0, Lab::Known(0));
+        g.add_edge(2, 3, 1.0, Lab::Known(0));
+        let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
+        assert_eq!(f.set, set(&[3]));
+        assert_eq!(fewest_vertices(&g, 0, 3).unwrap().verts, vec![0, 2, 3]);
+        g.vlab[2] = Lab::Blocked;
+        assert!(fewest_removals(&g, 0, 3, u32::MAX).is_none());
+        assert!(fewest_vertices(&g, 0, 3).is_none());
+    }
+
+    #[test]
+    fn brute_force_agreement_on_random_small_graphs() {
+        // Exhaustive check: the smallest subset S such that a path exists using only
+        // elements whose labels lie in S equals the MCR answer's size.
+        let mut s = 99u64;
+        let mut rnd = |m: u64| {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) % m
+        };
+        for _ in 0..200 {
+            let n = 8;
+            let mut g = Graph::default();
+            for _ in 0..n {
+                let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { 0 };
+                g.add_vertex(Lab::Known(l));
+            }
+            g.vlab[0] = Lab::Known(0);
+            for _ in 0..14 {
+                let (a, b) = (rnd(n) as u32, rnd(n) as u32);
+                if a == b {
+                    continue;
+                }
+                let lab = match rnd(6) {
+                    0 => Lab::Blocked,
+                    1 | 2 => Lab::Known(set(&[rnd(5) as u32])),
+                    _ => Lab::Known(0),
+                };
+                g.add_edge(a, b, 1.0 + rnd(3) as f64, lab);
+            }
+            let mcr = fewest_removals(&g, 0, n as u32 - 1, u32::MAX).map(|f| f.set.count_ones() as usize);
+            let brute = (0u32..32).filter(|m| path_within(&g, *m, n as u32 - 1)).map(|m| m.count_ones() as usize).min();
+            assert_eq!(mcr, brute);
+        }
+    }
+
+    fn path_within(g: &Graph, mask: u32, goal: u32) -> bool {
+        let ok = |l: &Lab| l.bound().is_some_and(|s| s & !(mask as Mask) == 0);
+        let mut seen = vec![false; g.vlab.len()];
+        let mut stack = vec![0u32];
+        if !ok(&g.vlab[0]) {
+            return false;
+        }
+        seen[0] = true;
+        while let Some(v) = stack.pop() {
+            if v == goal {
+                return true;
+            }
+            for &(w, e) in &g.adj[v as usize] {
+                if !seen[w as usize] && ok(&g.elab[e as usize]) && ok(&g.vlab[w as usize]) {
+                    seen[w as usize] = true;
+                    stack.push(w);
+                }
+            }
+        }
+        false
+    }
+}

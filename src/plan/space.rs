@@ -1,0 +1,33 @@
+//! The configuration space one robot plans in, as the roadmap sees it.
+//!
+//! The roadmap and its searches only need joint limits and labelled checks, so they
+//! are written against [`Space`]; the planner implements it for a robot of a
+//! [`World`](crate::world::World) and tests implement it on exact 2-D geometry.
+
+use crate::resolve::ObjectId;
+use crate::world::{Check, GraspConfig, Held, ObjectSet};
+
+/// What the scene looks like for one check: objects taken out of it, and what the hand carries.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mode {
+    pub absent: ObjectSet,
+    pub held: Option<Held>,
+}
+
+/// One robot's configuration space, with the other robots at home.
+pub trait Space: Sync {
+    fn dof(&self) -> usize;
+    fn limits(&self) -> &[(f64, f64)];
+    /// Labelled check of one configuration; adds the configurations checked to `checks`.
+    fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check;
+    /// Labelled check of the straight joint-space segment `a`-`b` (endpoints included),
+    /// at steps no longer than `step`.
+    fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check;
+    fn home(&self) -> &[f64];
+    /// Where a carried object is released (often `home`).
+    fn drop_config(&self) -> &[f64];
+    /// Reachable grasps of `o` (the paper's `selectGrasps`), in grasp order.
+    fn grasps(&self, o: ObjectId) -> Vec<GraspConfig>;
+    /// The object `o` as carried after grasping it at `q_grasp`.
+    fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held;
+}
