@@ -2,12 +2,7 @@
 
 use std::path::Path;
 
-use super::{CompileOptions, GlobalOptions, EXIT_INPUT};
-
-fn not_yet(what: &str) -> u8 {
-    eprintln!("error: `declutter {what}` is not built yet");
-    EXIT_INPUT
-}
+use super::{CompileOptions, GlobalOptions};
 
 pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     super::front::check(file, g)
@@ -15,12 +10,12 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
 pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
     super::front::resolve(file, g)
 }
-pub fn compile(_file: &Path, _g: &GlobalOptions, _o: &CompileOptions) -> u8 {
-    not_yet("compile")
+pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
+    super::compile::compile(file, g, o)
 }
 pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions) -> u8 {
     super::verify_cmd::verify(file, schedule, g)
 }
-pub fn graph(_file: &Path, _g: &GlobalOptions, _seed: Option<u64>) -> u8 {
-    not_yet("graph")
+pub fn graph(file: &Path, g: &GlobalOptions, seed: Option<u64>) -> u8 {
+    super::compile::graph(file, g, seed)
 }

@@ -4,9 +4,11 @@
 use std::path::PathBuf;
 
 mod commands;
+mod compile;
 mod pipeline;
 mod verify_cmd;
 
+pub use compile::stats_table;
 pub use verify_cmd::parse_schedule;
 mod front;
 

@@ -68,8 +68,10 @@ pub struct ScheduledAction {
     /// Ids of the actions that must finish before this one starts, ascending.
     pub after: Vec<u32>,
     /// Joint waypoints from home to the grasp (or to the target configuration).
+    #[serde(serialize_with = "rows")]
     pub approach: Vec<Vec<f64>>,
     /// Joint waypoints from the grasp to the drop and back home, carrying the object.
+    #[serde(serialize_with = "rows")]
     pub retreat: Vec<Vec<f64>>,
 }
 
@@ -95,6 +97,16 @@ pub struct QueryStat {
     pub connected: u64,
     pub paths: u64,
     pub checks: u64,
+}
+
+/// One waypoint per line (`- [q1, q2, …]`) in YAML; plain arrays in JSON.
+fn rows<S: serde::Serializer>(waypoints: &[Vec<f64>], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeSeq;
+    let mut seq = s.serialize_seq(Some(waypoints.len()))?;
+    for w in waypoints {
+        seq.serialize_element(&serde_saphyr::FlowSeq(w))?;
+    }
+    seq.end()
 }
 
 fn waypoints(p: &JointPath) -> Vec<Vec<f64>> {
@@ -212,4 +224,10 @@ pub fn to_json(s: &Schedule) -> Result<String, WriteError> {
             t
         })
         .map_err(|e| WriteError::Json { message: e.to_string() })
+}
+
+impl crate::diag::Located for WriteError {
+    fn primary_span(&self) -> Option<crate::diag::Span> {
+        None
+    }
 }

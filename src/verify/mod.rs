@@ -10,7 +10,7 @@
 
 mod violation;
 
-pub use violation::{Phase, Violation, ViolationKind};
+pub use violation::{Location, Phase, Violation, ViolationKind};
 
 use crate::resolve::{ObjectId, RobotId, Target};
 use crate::schedule::{Schedule, ScheduledAction, Status};
