@@ -33,7 +33,7 @@ pub const CONTACT_TOLERANCE: f64 = 1e-3;
 pub(crate) const LIMIT_SLACK: f64 = 1e-9;
 
 /// What one query holds constant across its checks.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct CheckCtx {
     /// Objects treated as not there (removed, or the one being grasped on the approach).
     pub absent: ObjectSet,
