@@ -140,7 +140,7 @@ fn unknown_mimic_leader() {
 #[test]
 fn home_of_wrong_length() {
     let scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0]);
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -150,7 +150,7 @@ fn home_of_wrong_length() {
 #[test]
 fn home_outside_limits() {
     let scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 3.0, 0.0]);
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::joint_limit");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -161,7 +161,7 @@ fn home_outside_limits() {
 fn drop_of_wrong_length_points_at_drop() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.robots[0].drop = Some(JointValues { values: vec![0.0; 4], span: span_of("[0, 0, 0, 0]") });
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0, 0]")));
 }
@@ -170,7 +170,7 @@ fn drop_of_wrong_length_points_at_drop() {
 fn home_colliding_with_a_fixed_body() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.fixed.push(cuboid("post", [0.1, 0.1, 0.1], at(0.2, 0.0, 0.0)));
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::config_collides");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -183,7 +183,7 @@ fn home_colliding_with_a_fixed_body() {
 fn unknown_flange_link() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.robots[0].flange = Some(("wrist".into(), span_of("home")));
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::unknown_flange");
     assert_eq!(errs[0].primary_span(), Some(span_of("home")));
 }
@@ -203,7 +203,7 @@ fn target_configuration_is_checked_too() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.target =
         Target::Config { robot: RobotId(0), q: JointValues { values: vec![0.0; 2], span: sp(3, 5) }, span: sp(0, 9) };
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(sp(3, 5)));
 }
