@@ -1,10 +1,15 @@
 //! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
 //! removable objects, cycling through 256 seeded random configurations.
+//!
+//! Measured twice: wall time (criterion's default), and the benchmark thread's own
+//! CPU time (`CLOCK_THREAD_CPUTIME_ID`), which is what one core spends per
+//! check even when the machine is shared and the thread waits for a core.
 
 use std::hint::black_box;
 use std::path::PathBuf;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::measurement::{Measurement, ValueFormatter};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use declutter::diag::{FileId, FsLoader, Span};
 use declutter::resolve::*;
 use declutter::world::{build, CheckCtx, World, WorldOptions};
@@ -82,7 +87,63 @@ fn configs(w: &World) -> Vec<Vec<f64>> {
     (0..256).map(|_| lim.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect()).collect()
 }
 
-fn bench(c: &mut Criterion) {
+/// Nanoseconds this thread has run on a CPU.
+fn thread_cpu_ns() -> u64 {
+    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `t` is a valid timespec the call writes into.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
+}
+
+struct ThreadCpu;
+struct Micros;
+
+impl ValueFormatter for Micros {
+    fn scale_values(&self, _typical: f64, values: &mut [f64]) -> &'static str {
+        values.iter_mut().for_each(|v| *v /= 1000.0);
+        "µs (thread CPU)"
+    }
+    fn scale_throughputs(&self, _typical: f64, _t: &Throughput, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
+
+impl Measurement for ThreadCpu {
+    type Intermediate = u64;
+    type Value = u64;
+    fn start(&self) -> u64 {
+        thread_cpu_ns()
+    }
+    fn end(&self, i: u64) -> u64 {
+        thread_cpu_ns().saturating_sub(i)
+    }
+    fn add(&self, a: &u64, b: &u64) -> u64 {
+        a + b
+    }
+    fn zero(&self) -> u64 {
+        0
+    }
+    fn to_f64(&self, v: &u64) -> f64 {
+        *v as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &Micros
+    }
+}
+
+fn bench_wall(c: &mut Criterion) {
+    bench(c, "")
+}
+
+fn bench_cpu(c: &mut Criterion<ThreadCpu>) {
+    bench(c, "cpu_")
+}
+
+fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     for n in [10, 200] {
         let w = world(n);
         let qs = configs(&w);
@@ -97,7 +158,7 @@ fn bench(c: &mut Criterion) {
         }
         eprintln!("{n} objects: of {} configurations {blocked} blocked, {touching} touch objects", qs.len());
         let mut i = 0;
-        c.bench_function(&format!("check_tx90_sah_table_{n}_objects"), |b| {
+        c.bench_function(&format!("{tag}check_tx90_sah_table_{n}_objects"), |b| {
             b.iter(|| {
                 i = (i + 1) % qs.len();
                 black_box(w.check(RobotId(0), black_box(&qs[i]), &ctx))
@@ -106,7 +167,7 @@ fn bench(c: &mut Criterion) {
         // Free configurations only: the full cost of a check that finds nothing fixed.
         let free: Vec<_> = qs.iter().filter(|q| !w.check(RobotId(0), q, &ctx).is_blocked()).cloned().collect();
         let mut j = 0;
-        c.bench_function(&format!("check_tx90_sah_table_{n}_objects_unblocked"), |b| {
+        c.bench_function(&format!("{tag}check_tx90_sah_table_{n}_objects_unblocked"), |b| {
             b.iter(|| {
                 j = (j + 1) % free.len();
                 black_box(w.check(RobotId(0), black_box(&free[j]), &ctx))
@@ -115,5 +176,10 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+criterion_group!(wall, bench_wall);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(ThreadCpu);
+    targets = bench_cpu
+}
+criterion_main!(wall, cpu);

@@ -234,7 +234,7 @@ fn pairs_always_in_collision_are_found_by_sampling() {
     let loader = declutter::diag::MemLoader::new().with("/m/stack.urdf", ALWAYS);
     let scn = scenario(vec![robot("s", "/m/stack.urdf", vec![0.0; 3], None)], vec![], vec![], vec![]);
     // Without sampling, l1 and l3 collide at home: an error.
-    let errs = build(&scn, &opts(0), &loader).err().expect("home collides");
+    let errs = build(&scn, &opts(0), &loader).expect_err("home collides");
     assert!(errs[0].to_string().contains("`l1` and `l3` collide"), "{}", errs[0]);
     // Sampling finds them in collision everywhere and stops checking the pair.
     let w = build(&scn, &opts(200), &loader).unwrap_or_else(|e| panic!("{e:?}"));

@@ -140,7 +140,7 @@ fn unknown_mimic_leader() {
 #[test]
 fn home_of_wrong_length() {
     let scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0]);
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -150,7 +150,7 @@ fn home_of_wrong_length() {
 #[test]
 fn home_outside_limits() {
     let scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 3.0, 0.0]);
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::joint_limit");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -161,7 +161,7 @@ fn home_outside_limits() {
 fn drop_of_wrong_length_points_at_drop() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.robots[0].drop = Some(JointValues { values: vec![0.0; 4], span: span_of("[0, 0, 0, 0]") });
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0, 0]")));
 }
@@ -170,7 +170,7 @@ fn drop_of_wrong_length_points_at_drop() {
 fn home_colliding_with_a_fixed_body() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.fixed.push(cuboid("post", [0.1, 0.1, 0.1], at(0.2, 0.0, 0.0)));
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!(code(&errs[0]), "declutter::world::config_collides");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
@@ -183,7 +183,7 @@ fn home_colliding_with_a_fixed_body() {
 fn unknown_flange_link() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.robots[0].flange = Some(("wrist".into(), span_of("home")));
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::unknown_flange");
     assert_eq!(errs[0].primary_span(), Some(span_of("home")));
 }
@@ -203,7 +203,57 @@ fn target_configuration_is_checked_too() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
     scn.target =
         Target::Config { robot: RobotId(0), q: JointValues { values: vec![0.0; 2], span: sp(3, 5) }, span: sp(0, 9) };
-    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).err().expect("errors");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(sp(3, 5)));
+}
+
+/// A tetrahedron as COLLADA and as OBJ, loaded through relative mesh paths.
+const DAE: &str = r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tet" name="tet">
+      <mesh>
+        <source id="tet-pos">
+          <float_array id="tet-pos-array" count="12">0 0 0 0.1 0 0 0 0.1 0 0 0 0.1</float_array>
+          <technique_common>
+            <accessor source="#tet-pos-array" count="4" stride="3">
+              <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+            </accessor>
+          </technique_common>
+        </source>
+        <vertices id="tet-vtx"><input semantic="POSITION" source="#tet-pos"/></vertices>
+        <triangles count="4">
+          <input semantic="VERTEX" source="#tet-vtx" offset="0"/>
+          <p>0 2 1 0 1 3 0 3 2 1 2 3</p>
+        </triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="s"><node id="n"><instance_geometry url="#tet"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"##;
+
+const OBJ: &str = "mtllib gone.mtl\nv 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+#[test]
+fn dae_and_obj_meshes_load() {
+    for (file, text) in [("tet.dae", DAE), ("tet.obj", OBJ)] {
+        let urdf =
+            one_link(&format!(r#"<collision><geometry><mesh filename="meshes/{file}"/></geometry></collision>"#));
+        let loader = MemLoader::new().with("/m/arm.urdf", urdf).with(format!("/m/meshes/{file}"), text);
+        let scn = arm_scenario_dof("/m/arm.urdf", vec![0.0], 1);
+        let k = declutter::world::load_kinematics(&scn.robots[0].urdf, None, &WorldOptions::default(), &loader)
+            .unwrap_or_else(|e| panic!("{file}: {e:?}"));
+        assert_eq!(k.shape_count(), 1, "{file}");
+    }
+    // A file that is no mesh at all.
+    let urdf = one_link(r#"<collision><geometry><mesh filename="meshes/bad.stl"/></geometry></collision>"#);
+    let loader = MemLoader::new().with("/m/arm.urdf", urdf).with("/m/meshes/bad.stl", "solid x\nendsolid x\n");
+    let errs = errors(&arm_scenario_dof("/m/arm.urdf", vec![0.0], 1), &loader);
+    assert_eq!(code(&errs[0]), "declutter::world::mesh_load", "{errs:?}");
+    assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
 }

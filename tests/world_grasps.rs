@@ -102,3 +102,48 @@ fn held_can_is_not_touched_by_the_hand() {
     assert!(!w.check(R0, &g.q_grasp, &ctx).is_blocked());
     assert!(!w.check(R0, &g.q_pregrasp, &ctx).is_blocked());
 }
+
+#[test]
+fn closed_hands_stay_clear_of_a_can_across_the_tcp() {
+    use declutter::world::Check;
+    for (h, tcp) in [(0u32, 0.16), (1, 0.18)] {
+        let q = [0.0, 0.3, 1.2, 0.4, 0.8, -0.6];
+        // Find the TCP pose, then stand a can (r 3.3 cm) across it, axis along the TCP's x or y.
+        let probe = scenario(
+            vec![robot("tx90", tx90(), vec![0.0; 6], Some(HandId(h)))],
+            vec![hand("sah", sah(), 0.16), hand("sdh2", sdh2(), 0.18)],
+            vec![],
+            vec![],
+        );
+        let w = build(&probe, &WorldOptions::default(), &FsLoader).unwrap();
+        let p_tcp = w.fk_tcp(R0, &q);
+        let across_x = p_tcp
+            * Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_euler_angles(0.0, 90f64.to_radians(), 0.0),
+            );
+        let across_y = p_tcp
+            * Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_euler_angles(90f64.to_radians(), 0.0, 0.0),
+            );
+        let objects = vec![
+            object(body("can_x", Shape::Cylinder { radius: 0.033, length: 0.3 }, across_x), vec![]),
+            object(body("can_y", Shape::Cylinder { radius: 0.033, length: 0.3 }, across_y), vec![]),
+        ];
+        let mut scn = probe.clone();
+        scn.objects = objects;
+        let w = build(&scn, &WorldOptions::default(), &FsLoader).unwrap();
+        assert_eq!(w.check(R0, &q, &CheckCtx::new()), Check::free(), "hand {h} (tcp {tcp} m)");
+        // A can 1 cm closer to the flange does touch the hand: the clearance is real but small.
+        let closer = p_tcp
+            * at(0.0, 0.0, -0.012)
+            * Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_euler_angles(0.0, 90f64.to_radians(), 0.0),
+            );
+        scn.objects = vec![object(body("can", Shape::Cylinder { radius: 0.033, length: 0.3 }, closer), vec![])];
+        let w = build(&scn, &WorldOptions::default(), &FsLoader).unwrap();
+        assert_eq!(w.check(R0, &q, &CheckCtx::new()), Check::Touches(ObjectSet::single(ObjectId(0))), "hand {h}");
+    }
+}

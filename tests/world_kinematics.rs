@@ -141,3 +141,41 @@ fn tx90_with_hand_self_collision_pairs() {
     // The hand can hit the upper arm and the forearm: those pairs stay.
     assert!(pairs.contains(&("link_2", "sah")) && pairs.contains(&("link_4", "sah")), "{pairs:?}");
 }
+
+/// A slider carrying a revolute joint whose mimic twin follows at twice the angle plus 0.1.
+const MIMIC: &str = r#"<robot name="m">
+<link name="base"/><link name="carriage"/><link name="arm"/><link name="twin"/><link name="tip"/>
+<transmission name="t"><type>transmission_interface/SimpleTransmission</type></transmission>
+<gazebo><plugin name="x" filename="libx.so"/></gazebo>
+<joint name="slide" type="prismatic"><parent link="base"/><child link="carriage"/><axis xyz="1 0 0"/>
+  <limit lower="-0.5" upper="0.5" effort="1" velocity="1"/></joint>
+<joint name="turn" type="revolute"><parent link="carriage"/><child link="arm"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+  <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+<joint name="follow" type="revolute"><parent link="arm"/><child link="twin"/><origin xyz="0.2 0 0"/><axis xyz="0 0 1"/>
+  <mimic joint="turn" multiplier="2" offset="0.1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+<joint name="tool" type="fixed"><parent link="twin"/><child link="tip"/><origin xyz="0.1 0 0"/></joint>
+</robot>"#;
+
+#[test]
+fn prismatic_mimic_fixed_and_ignored_tags() {
+    let loader = declutter::diag::MemLoader::new().with("/m/m.urdf", MIMIC);
+    let scn = scenario(vec![robot("m", "/m/m.urdf", vec![0.0, 0.0], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &opts(), &loader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(w.joint_names(R0), ["slide", "turn"]);
+    assert_eq!(w.limits(R0), [(-0.5, 0.5), (-1.0, 1.0)]);
+    assert_eq!(w.flange_link(R0), "tip");
+    let (s, t) = (0.3, 0.4);
+    let f = w.fk_flange(R0, &[s, t]);
+    // The arm turns by t about z at (s, 0, 0.1); the twin by a further 2t + 0.1 at 0.2 along the arm.
+    let a1 = t;
+    let a2 = t + 2.0 * t + 0.1;
+    let expect = Vector3::new(s + 0.2 * a1.cos() + 0.1 * a2.cos(), 0.2 * a1.sin() + 0.1 * a2.sin(), 0.1);
+    assert!((f.translation.vector - expect).norm() < 1e-12, "{:?} vs {expect:?}", f.translation.vector);
+    assert!((f.rotation.angle() - a2).abs() < 1e-12);
+    // IK on this 2-joint arm: the position-and-orientation target of a reachable pose.
+    let sols = w.ik(R0, &f, 3, 4);
+    assert!(!sols.is_empty());
+    for q in &sols {
+        assert!((w.fk_flange(R0, q).translation.vector - expect).norm() < 1e-9);
+    }
+}

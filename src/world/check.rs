@@ -33,7 +33,7 @@ pub const CONTACT_TOLERANCE: f64 = 1e-3;
 pub(crate) const LIMIT_SLACK: f64 = 1e-9;
 
 /// What one query holds constant across its checks.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct CheckCtx {
     /// Objects treated as not there (removed, or the one being grasped on the approach).
     pub absent: ObjectSet,
@@ -308,7 +308,9 @@ pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f
 
 /// Body pairs worth checking for self-collision: not both static, not rigidly
 /// joined, not adjacent, not allowed by the scenario, and (when sampling) neither
-/// colliding in nearly every sample nor in none.
+/// colliding in nearly every sample nor out of reach: a pair that never collided
+/// is dropped only if its bounding boxes, grown by [`NEAR_MARGIN`], never met
+/// either, so a collision confined to a region the samples missed is still caught.
 pub(crate) fn self_pairs(
     m: &RobotModel,
     allowed: &[(String, String)],
@@ -339,6 +341,7 @@ pub(crate) fn self_pairs(
     }
     let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f_c011 ^ seed);
     let mut counts = vec![0usize; pairs.len()];
+    let mut near = vec![false; pairs.len()];
     let mut s = Scratch::default();
     let mut q = vec![0.0; m.chain.dof()];
     for _ in 0..samples {
@@ -347,14 +350,20 @@ pub(crate) fn self_pairs(
         }
         pose_robot(m, &q, &mut s);
         for (k, &(a, b)) in pairs.iter().enumerate() {
+            if !near[k] && s.body_aabb[a].loosened(NEAR_MARGIN).intersects(&s.body_aabb[b]) {
+                near[k] = true;
+            }
             if s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b) {
                 counts[k] += 1;
             }
         }
     }
     let always = (ALWAYS_FRACTION_NUM * samples as f64).ceil() as usize;
-    pairs.into_iter().zip(counts).filter(|&(_, c)| c > 0 && c < always).map(|(p, _)| p).collect()
+    pairs.into_iter().enumerate().filter(|&(k, _)| near[k] && counts[k] < always).map(|(_, p)| p).collect()
 }
+
+/// Bodies whose bounding boxes never came this close (metres) in any sample are never checked.
+const NEAR_MARGIN: f64 = 0.05;
 
 /// A pair is "always in collision" at this fraction of samples (MoveIt's default).
 const ALWAYS_FRACTION_NUM: f64 = 0.95;

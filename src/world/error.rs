@@ -92,7 +92,9 @@ pub enum WorldError {
         span: Span,
     },
 
-    #[error("`{what}` of robot `{robot}`: joint `{joint}` = {value} is outside its limits [{lower}, {upper}]")]
+    #[error(
+        "`{what}` of robot `{robot}`: joint `{joint}` = {value:.4} is outside its limits [{lower:.4}, {upper:.4}]"
+    )]
     #[diagnostic(code(declutter::world::joint_limit))]
     JointLimit {
         robot: String,
@@ -101,7 +103,7 @@ pub enum WorldError {
         value: f64,
         lower: f64,
         upper: f64,
-        #[label("`{joint}` must lie in [{lower}, {upper}]")]
+        #[label("`{joint}` must lie in [{lower:.4}, {upper:.4}]")]
         span: Span,
         index: usize,
     },

@@ -39,6 +39,18 @@ pub struct World {
     object_parts: Vec<Vec<shapes::Placed>>,
 }
 
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let robots: Vec<(&str, usize, usize)> =
+            self.robots.iter().map(|m| (m.name.as_str(), m.chain.dof(), m.shapes.len())).collect();
+        f.debug_struct("World")
+            .field("robots (name, dof, shapes)", &robots)
+            .field("fixed", &self.scenario.fixed.len())
+            .field("objects", &self.scenario.objects.len())
+            .finish()
+    }
+}
+
 impl World {
     pub fn scenario(&self) -> &Scenario {
         &self.scenario
