@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use declutter::driver::{self, Format, GlobalOptions};
+use declutter::driver::{self, Format, GlobalOptions, Meshes};
 
 #[derive(Parser)]
 #[command(name = "declutter", version, about = "Compile robot-cell scenarios into verified obstacle-removal schedules")]
@@ -13,6 +13,10 @@ struct Cli {
     /// Extra directories searched for `package://NAME/...` mesh URIs (also: DECLUTTER_PACKAGE_PATH).
     #[arg(long = "package-path", global = true, value_name = "DIR")]
     package_path: Vec<PathBuf>,
+    /// How mesh collision geometry is modelled: convex hulls (fast, the default) or the
+    /// exact triangle meshes (slower; a shape lying wholly inside a mesh is not a hit).
+    #[arg(long, global = true, value_enum, default_value_t = Meshes::Convex)]
+    meshes: Meshes,
     /// Never colour diagnostics.
     #[arg(long, global = true)]
     no_color: bool,
@@ -66,7 +70,8 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let global = GlobalOptions::from_env(cli.package_path, cli.no_color);
+    let mut global = GlobalOptions::from_env(cli.package_path, cli.no_color);
+    global.meshes = cli.meshes;
     let code = match cli.command {
         Command::Check { file } => driver::check(&file, &global),
         Command::Resolve { file } => driver::resolve(&file, &global),

@@ -164,3 +164,23 @@ fn help_has_examples() {
         assert!(stdout.contains(&format!("declutter {cmd} examples/box_lid.dcl")), "{stdout}");
     }
 }
+
+#[test]
+fn cli_every_err_fixture_exits_1_with_its_code() {
+    let mut seen = 0;
+    for dir in ["tests/fixtures/syntax/err", "tests/fixtures/resolve/err"] {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        files.sort();
+        for f in files.iter().filter(|f| f.extension().is_some_and(|e| e == "dcl")) {
+            let mut sources = SourceMap::new();
+            let errs = resolve::check(f, &FsLoader, &mut sources).expect_err("an err fixture fails");
+            let code_of_first = errs[0].code_str();
+            let (code, stdout, stderr) = run(&["--no-color", "check", f.to_str().unwrap()]);
+            assert_eq!(code, 1, "{}: exit {code}\n{stderr}", f.display());
+            assert!(stdout.is_empty(), "{}: nothing on stdout", f.display());
+            assert!(stderr.contains(&code_of_first), "{}: {code_of_first} not in\n{stderr}", f.display());
+            seen += 1;
+        }
+    }
+    assert!(seen >= 25, "only {seen} error fixtures");
+}

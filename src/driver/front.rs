@@ -9,7 +9,7 @@ use super::pipeline::{fail, render_options};
 use super::{GlobalOptions, EXIT_OK};
 use crate::diag::{render_all, render_one, FsLoader, Located, RenderOptions, SourceMap, Span};
 use crate::resolve::{self, JointInfo};
-use crate::world::{self, WorldOptions};
+use crate::world;
 
 /// Renders resolve errors, sorted by position (long lines fall back to one-line reports).
 pub fn render_report(sources: &SourceMap, errs: &[resolve::ResolveError], opts: RenderOptions) -> String {
@@ -62,7 +62,7 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         Ok(s) => s,
         Err(errs) => return fail(&sources, &errs, g),
     };
-    let opts = WorldOptions { package_path: g.package_path.clone(), ..WorldOptions::default() };
+    let opts = g.world_options();
     let w = match world::build(&scn, &opts, &FsLoader) {
         Ok(w) => w,
         Err(errs) => return fail(&sources, &errs, g),
@@ -89,7 +89,7 @@ pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
         Ok(s) => s,
         Err(errs) => return fail(&sources, &errs, g),
     };
-    let opts = WorldOptions { package_path: g.package_path.clone(), ..WorldOptions::default() };
+    let opts = g.world_options();
     let mut joints = Vec::new();
     let mut errs = Vec::new();
     for r in &scn.robots {

@@ -22,12 +22,34 @@ pub enum Format {
     Json,
 }
 
+/// How meshes are modelled for collision checking.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Meshes {
+    /// Convex hull of each mesh (fast).
+    #[default]
+    Convex,
+    /// The triangle mesh itself.
+    Exact,
+}
+
+impl GlobalOptions {
+    /// World options for these command-line choices.
+    pub fn world_options(&self) -> crate::world::WorldOptions {
+        let mesh_mode = match self.meshes {
+            Meshes::Convex => crate::world::MeshMode::ConvexHull,
+            Meshes::Exact => crate::world::MeshMode::TriMesh,
+        };
+        crate::world::WorldOptions { package_path: self.package_path.clone(), mesh_mode, ..Default::default() }
+    }
+}
+
 /// Options every command shares.
 #[derive(Clone, Debug, Default)]
 pub struct GlobalOptions {
     /// Directories searched for `package://` URIs, after the URDF's own folder and its ancestors.
     pub package_path: Vec<PathBuf>,
     pub color: bool,
+    pub meshes: Meshes,
 }
 
 impl GlobalOptions {
@@ -38,7 +60,7 @@ impl GlobalOptions {
         }
         let color =
             !no_color && std::env::var_os("NO_COLOR").is_none() && std::io::IsTerminal::is_terminal(&std::io::stderr());
-        GlobalOptions { package_path, color }
+        GlobalOptions { package_path, color, meshes: Meshes::Convex }
     }
 }
 

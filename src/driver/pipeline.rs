@@ -8,7 +8,7 @@ use miette::Diagnostic;
 
 use crate::diag::{render_all, FsLoader, Located, RenderOptions, SourceMap};
 use crate::resolve::{self, Scenario};
-use crate::world::{self, World, WorldOptions};
+use crate::world::{self, World};
 
 pub(super) fn render_options(g: &GlobalOptions) -> RenderOptions {
     RenderOptions { color: g.color, ..RenderOptions::plain() }
@@ -33,7 +33,7 @@ pub(super) fn load(file: &Path, g: &GlobalOptions, edit: impl FnOnce(&mut Scenar
     let mut sources = SourceMap::new();
     let mut scn = resolve::resolve(file, &FsLoader, &mut sources).map_err(|errs| fail(&sources, &errs, g))?;
     edit(&mut scn);
-    let opts = WorldOptions { package_path: g.package_path.clone(), ..WorldOptions::default() };
+    let opts = g.world_options();
     let world = world::build(&scn, &opts, &FsLoader).map_err(|errs| fail(&sources, &errs, g))?;
     Ok(Loaded { sources, world })
 }
