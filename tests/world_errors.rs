@@ -189,6 +189,18 @@ fn unknown_flange_link() {
 }
 
 #[test]
+fn allow_contact_with_an_unknown_link() {
+    let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
+    scn.robots[0].allow_contact =
+        vec![declutter::resolve::LinkPair { a: "link1".into(), b: "elbow".into(), span: span_of("drop") }];
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::unknown_link");
+    assert_eq!(errs[0].primary_span(), Some(span_of("drop")));
+    assert!(errs[0].to_string().contains("`elbow`"));
+}
+
+#[test]
 fn several_errors_come_back_at_once_in_order() {
     let mut scn = arm_scenario("/m/arm.urdf", vec![]);
     scn.hands.push(hand("h", "/m/hand.urdf", 0.1));

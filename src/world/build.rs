@@ -157,6 +157,28 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             .collect();
         at_home.push(entries);
     }
+    // An `allow_contact` naming no link of the robot is surely a typo: say so.
+    let mut errs = Vec::new();
+    for (ri, m) in robots.iter().enumerate() {
+        for pair in &scn.robots[ri].allow_contact {
+            for name in [&pair.a, &pair.b] {
+                let known = m.bodies.iter().any(|b| &b.name == name) || m.chain.links.iter().any(|l| &l.name == name);
+                if !known {
+                    let mut links: Vec<&str> = m.bodies.iter().map(|b| b.name.as_str()).collect();
+                    links.dedup();
+                    errs.push(WorldError::UnknownLink {
+                        robot: m.name.clone(),
+                        link: name.clone(),
+                        links: links.join(", "),
+                        span: pair.span,
+                    });
+                }
+            }
+        }
+    }
+    if !errs.is_empty() {
+        return Err(errs);
+    }
     for (ri, m) in robots.iter_mut().enumerate() {
         let mut entries: Vec<Entry> = statics.clone();
         for (other, e) in at_home.iter().enumerate() {

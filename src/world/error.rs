@@ -80,6 +80,16 @@ pub enum WorldError {
         span: Span,
     },
 
+    #[error("robot `{robot}` has no link `{link}`")]
+    #[diagnostic(code(declutter::world::unknown_link), help("links with collision geometry: {links}"))]
+    UnknownLink {
+        robot: String,
+        link: String,
+        links: String,
+        #[label("in this `allow_contact`")]
+        span: Span,
+    },
+
     #[error("`{what}` of robot `{robot}` has {got} values, but the robot has {expected} joints ({joints})")]
     #[diagnostic(code(declutter::world::joint_count))]
     JointCount {
@@ -132,6 +142,7 @@ impl Located for WorldError {
             | WorldError::MeshMissing { span, .. }
             | WorldError::MeshLoad { span, .. }
             | WorldError::UnknownFlange { span, .. }
+            | WorldError::UnknownLink { span, .. }
             | WorldError::JointCount { span, .. }
             | WorldError::JointLimit { span, .. }
             | WorldError::ConfigCollides { span, .. } => *span,
