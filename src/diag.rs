@@ -104,6 +104,10 @@ pub trait Loader: Sync {
     fn read_to_string(&self, path: &Path) -> io::Result<String>;
     fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>>;
     fn exists(&self, path: &Path) -> bool;
+    /// True if `path` names a directory (so "no such file" would mislead).
+    fn is_dir(&self, _path: &Path) -> bool {
+        false
+    }
 }
 
 /// Largest scenario, URDF or mesh file we accept; beyond it a file is surely a mistake.
@@ -124,6 +128,9 @@ impl Loader for FsLoader {
     }
     fn exists(&self, path: &Path) -> bool {
         path.is_file()
+    }
+    fn is_dir(&self, path: &Path) -> bool {
+        path.is_dir()
     }
 }
 
@@ -178,12 +185,53 @@ impl Loader for MemLoader {
 pub trait Located {
     /// The span of the primary label, if the error has one.
     fn primary_span(&self) -> Option<Span>;
+
+    /// Places in other files than the primary span's (e.g. the first declaration of a
+    /// name declared again in a used file), with their labels. A miette label can only
+    /// point into one source, so each is drawn as a related report with its own file.
+    fn elsewhere(&self) -> Vec<(Span, String)> {
+        Vec::new()
+    }
+}
+
+/// A label in another file, drawn under the main report.
+#[derive(Debug)]
+struct Elsewhere {
+    /// The main report's code, so the related report's header line is not empty.
+    code: Option<String>,
+    label: String,
+    span: Span,
+    src: NamedSource<String>,
+}
+
+impl fmt::Display for Elsewhere {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "in {}", self.src.name())
+    }
+}
+impl std::error::Error for Elsewhere {}
+
+impl Diagnostic for Elsewhere {
+    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.code.as_ref().map(|c| Box::new(c) as Box<dyn fmt::Display>)
+    }
+    fn severity(&self) -> Option<miette::Severity> {
+        Some(miette::Severity::Advice)
+    }
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        Some(&self.src)
+    }
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = miette::LabeledSpan> + '_>> {
+        let l = miette::LabeledSpan::new_with_span(Some(self.label.clone()), SourceSpan::from(self.span));
+        Some(Box::new(std::iter::once(l)))
+    }
 }
 
 /// Attaches the right source file to a phase error for printing.
 struct WithSource<'a> {
     inner: &'a dyn Diagnostic,
     src: Option<NamedSource<String>>,
+    elsewhere: Vec<Elsewhere>,
 }
 
 impl fmt::Debug for WithSource<'_> {
@@ -218,7 +266,12 @@ impl Diagnostic for WithSource<'_> {
         self.inner.labels()
     }
     fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn Diagnostic> + 'b>> {
-        self.inner.related()
+        let own = self.elsewhere.iter().map(|e| e as &dyn Diagnostic);
+        match self.inner.related() {
+            Some(r) => Some(Box::new(r.chain(own))),
+            None if self.elsewhere.is_empty() => None,
+            None => Some(Box::new(own)),
+        }
     }
     fn diagnostic_source(&self) -> Option<&dyn Diagnostic> {
         self.inner.diagnostic_source()
@@ -245,12 +298,15 @@ const MAX_DRAWN_LINE: usize = 10_000;
 
 fn drawable(sources: &SourceMap, err: &dyn Diagnostic, primary: Option<Span>) -> bool {
     let Some(file) = primary.and_then(|s| sources.get(s.file)) else { return true };
-    err.labels().into_iter().flatten().all(|l| {
-        let at = l.offset().min(file.text.len());
-        let start = file.text.get(..at).and_then(|t| t.rfind('\n')).map_or(0, |i| i + 1);
-        let end = file.text.get(at..).and_then(|t| t.find('\n')).map_or(file.text.len(), |i| at + i);
-        end - start <= MAX_DRAWN_LINE
-    })
+    err.labels().into_iter().flatten().all(|l| line_len(&file.text, l.offset()) <= MAX_DRAWN_LINE)
+}
+
+/// Length in bytes of the line holding byte `at`.
+fn line_len(text: &str, at: usize) -> usize {
+    let at = at.min(text.len());
+    let start = text.get(..at).and_then(|t| t.rfind('\n')).map_or(0, |i| i + 1);
+    let end = text.get(at..).and_then(|t| t.find('\n')).map_or(text.len(), |i| at + i);
+    end - start
 }
 
 /// Renders one diagnostic with the source of the file its primary span points into.
@@ -265,10 +321,30 @@ pub fn render_one<E: Diagnostic + Located>(sources: &SourceMap, err: &E, opts: R
         if let Some(h) = err.help() {
             out.push_str(&format!("  help: {h}\n"));
         }
+        for (span, label) in err.elsewhere() {
+            if let (Some(f), Some((l, c))) = (sources.get(span.file), sources.line_col(span)) {
+                out.push_str(&format!("  note: {}:{l}:{c}: {label}\n", f.name));
+            }
+        }
         return out;
     }
     let src = primary.and_then(|s| sources.get(s.file)).map(|f| NamedSource::new(f.name.clone(), f.text.clone()));
-    let wrapped = WithSource { inner: err, src };
+    let code = err.code().map(|c| c.to_string());
+    let elsewhere = err
+        .elsewhere()
+        .into_iter()
+        .filter_map(|(span, label)| {
+            let f = sources.get(span.file)?;
+            // The same long-line limit as the main report: such a place is named, not drawn.
+            (line_len(&f.text, span.start as usize) <= MAX_DRAWN_LINE).then(|| Elsewhere {
+                code: code.clone(),
+                label,
+                span,
+                src: NamedSource::new(f.name.clone(), f.text.clone()),
+            })
+        })
+        .collect();
+    let wrapped = WithSource { inner: err, src, elsewhere };
     let theme = if opts.color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
     let handler = GraphicalReportHandler::new_themed(theme).with_width(opts.width).with_links(false);
     let mut out = String::new();

@@ -184,3 +184,17 @@ fn cli_every_err_fixture_exits_1_with_its_code() {
     }
     assert!(seen >= 25, "only {seen} error fixtures");
 }
+
+/// The `ok` fixtures pass the real `check`, which also loads URDFs and meshes and checks
+/// the robots' configurations (everything.dcl once named a link the URDF lacks).
+#[test]
+fn cli_every_ok_fixture_checks() {
+    for dir in ["tests/fixtures/syntax/ok", "tests/fixtures/resolve/ok"] {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        files.sort();
+        for f in files.iter().filter(|f| f.extension().is_some_and(|e| e == "dcl")) {
+            let (code, _, stderr) = run(&["--no-color", "check", f.to_str().unwrap()]);
+            assert_eq!(code, 0, "{}: exit {code}\n{stderr}", f.display());
+        }
+    }
+}

@@ -88,9 +88,29 @@ const TOKENS: &[&str] = &[
     "\"a.stl\"",
 ];
 
+/// Every example scenario, read once: the seeds for mutation.
+fn examples() -> &'static [(String, Vec<u8>)] {
+    static EXAMPLES: std::sync::OnceLock<Vec<(String, Vec<u8>)>> = std::sync::OnceLock::new();
+    EXAMPLES.get_or_init(|| {
+        let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir("examples")
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|x| x == "dcl"))
+            .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+            .collect();
+        v.sort();
+        assert!(v.len() >= 10, "the examples are the fuzz seeds");
+        v
+    })
+}
+
 fn loader(root: &[u8]) -> MemLoader {
     let mut l = MemLoader::new();
-    for f in ["cell.dcl", "box_lid.dcl", "robots/tx90.urdf", "hands/sah.urdf", "hands/sdh2.urdf"] {
+    for (name, bytes) in examples() {
+        l.insert(Path::new("examples").join(name), bytes.clone());
+    }
+    for f in ["robots/tx90.urdf", "robots/planar3.urdf", "hands/sah.urdf", "hands/sdh2.urdf", "meshes/bracket.stl"] {
         let p = Path::new("examples").join(f);
         l.insert(&p, std::fs::read(&p).unwrap());
     }
@@ -100,6 +120,15 @@ fn loader(root: &[u8]) -> MemLoader {
 
 /// Runs parse + resolve + check + rendering and checks every span lies in its file.
 fn exercise(bytes: &[u8]) {
+    exercise_once(bytes);
+    // Random bytes are rarely UTF-8, and the loader stops at the first bad byte; the
+    // lossy text gets the same bytes through to the parser and resolver.
+    if std::str::from_utf8(bytes).is_err() {
+        exercise_once(String::from_utf8_lossy(bytes).as_bytes());
+    }
+}
+
+fn exercise_once(bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes);
     match syntax::parse(FileId(0), &text) {
         Err(errs) => {
@@ -157,6 +186,8 @@ enum Edit {
     Duplicate(usize, usize),
     Swap(usize, usize, usize),
     Token(usize, usize),
+    /// A run of one character: very long names, numbers, strings, nesting.
+    Run(usize, u8, usize),
 }
 
 fn edit() -> impl Strategy<Value = Edit> {
@@ -166,6 +197,8 @@ fn edit() -> impl Strategy<Value = Edit> {
         (any::<usize>(), 0usize..60).prop_map(|(a, n)| Edit::Duplicate(a, n)),
         (any::<usize>(), any::<usize>(), 0usize..30).prop_map(|(a, b, n)| Edit::Swap(a, b, n)),
         (any::<usize>(), 0..TOKENS.len()).prop_map(|(a, t)| Edit::Token(a, t)),
+        (any::<usize>(), prop::sample::select(&b"a9(\"{[.e_-"[..]), 1usize..3000)
+            .prop_map(|(a, c, n)| Edit::Run(a, c, n)),
     ]
 }
 
@@ -204,27 +237,32 @@ fn apply(mut v: Vec<u8>, edits: &[Edit]) -> Vec<u8> {
                 let a = (a % len).min(v.len());
                 v.splice(a..a, TOKENS[*t].bytes());
             }
+            Edit::Run(a, c, n) => {
+                let a = (a % len).min(v.len());
+                v.splice(a..a, std::iter::repeat_n(*c, *n));
+            }
         }
     }
     v
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+    // Sized to run in a few seconds in release on two cores.
+    #![proptest_config(ProptestConfig { cases: 1000, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
-    fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+    fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..4000)) {
         exercise(&bytes);
     }
 
     #[test]
-    fn mutated_examples_never_panic(which in 0usize..2, edits in proptest::collection::vec(edit(), 1..6)) {
-        let base = std::fs::read(["examples/box_lid.dcl", "examples/cell.dcl"][which]).unwrap();
-        exercise(&apply(base, &edits));
+    fn mutated_examples_never_panic(which in any::<prop::sample::Index>(), edits in proptest::collection::vec(edit(), 1..6)) {
+        let (_, base) = which.get(examples());
+        exercise(&apply(base.clone(), &edits));
     }
 
     #[test]
-    fn token_soup_never_panics(toks in proptest::collection::vec(0..TOKENS.len(), 0..60)) {
+    fn token_soup_never_panics(toks in proptest::collection::vec(0..TOKENS.len(), 0..600)) {
         let text: String = toks.iter().map(|t| TOKENS[*t]).collect::<Vec<_>>().join(" ");
         exercise(text.as_bytes());
     }
@@ -241,4 +279,24 @@ fn deep_nesting_and_long_files_do_not_overflow() {
     ] {
         exercise(text.as_bytes());
     }
+}
+
+/// A very long name and a misspelling of it: the did-you-mean search once built a
+/// len x len table here (80 GB for 100k characters) and aborted.
+#[test]
+fn long_names_are_cheap() {
+    let started = std::time::Instant::now();
+    for n in [300, 15_000, 100_000] {
+        let name = "a".repeat(n);
+        let typo = format!("{}b", &name[1..]);
+        let text = format!("use \"cell.dcl\"\nobject {name} sphere(radius: 1cm)\ntarget {typo}\n");
+        exercise(text.as_bytes());
+        let mut sources = SourceMap::new();
+        let errs =
+            resolve::resolve(Path::new("examples/fuzz.dcl"), &loader(text.as_bytes()), &mut sources).unwrap_err();
+        let codes: Vec<String> = errs.iter().map(|e| e.code_str()).collect();
+        assert!(codes.contains(&"declutter::resolve::out_of_range".to_string()), "{codes:?}");
+        assert!(codes.contains(&"declutter::resolve::unknown_name".to_string()), "{codes:?}");
+    }
+    assert!(started.elapsed().as_secs_f64() < 5.0, "took {:?}", started.elapsed());
 }

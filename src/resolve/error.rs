@@ -34,7 +34,7 @@ pub enum ResolveError {
         span: Span,
     },
 
-    #[error("{what} file `{path}` does not exist")]
+    #[error("{what} file `{path}` {}", if *is_dir { "is a directory" } else { "does not exist" })]
     #[diagnostic(
         code(declutter::resolve::missing_file),
         help("paths are relative to the directory of the file that names them ({dir})")
@@ -43,8 +43,25 @@ pub enum ResolveError {
         what: &'static str,
         path: String,
         dir: String,
-        #[label("no such file")]
+        /// The path names a directory, not a file.
+        is_dir: bool,
+        #[label("{}", if *is_dir { "a directory, not a file" } else { "no such file" })]
         span: Span,
+    },
+
+    #[error("`{path}` is not UTF-8 text: invalid byte at line {line}, column {column}")]
+    #[diagnostic(
+        code(declutter::resolve::not_utf8),
+        help("scenario files are UTF-8; re-save the file as UTF-8 or remove the stray byte")
+    )]
+    NotUtf8 {
+        path: String,
+        line: usize,
+        column: usize,
+        #[label("not UTF-8")]
+        span: Span,
+        /// The `use` that names the file (drawn as a related report: it is in another file).
+        used_at: Option<Span>,
     },
 
     #[error("unknown {kind} `{name}`")]
@@ -68,9 +85,8 @@ pub enum ResolveError {
         span: Span,
         #[label("`{name}` is declared here")]
         decl: Option<Span>,
-        /// Where `name` is declared, when that is in another file.
-        #[help]
-        help: Option<String>,
+        /// Where `name` is declared, when that is in another file (drawn as a related report).
+        elsewhere: Option<Span>,
     },
 
     #[error("`{name}` is declared twice")]
@@ -82,6 +98,8 @@ pub enum ResolveError {
         /// The first declaration, when it is in the same file.
         #[label("first declared here")]
         first: Option<Span>,
+        /// The first declaration, when it is in another file (drawn as a related report).
+        elsewhere: Option<Span>,
         #[help]
         help: Option<String>,
     },
@@ -310,6 +328,7 @@ impl Located for ResolveError {
             Unreadable { span, .. } => *span,
             UseCycle { span, .. }
             | MissingFile { span, .. }
+            | NotUtf8 { span, .. }
             | UnknownName { span, .. }
             | WrongKind { span, .. }
             | DuplicateName { span, .. }
@@ -334,6 +353,49 @@ impl Located for ResolveError {
             | BadTarget { span, .. }
             | JointCount { span, .. } => Some(*span),
         }
+    }
+
+    fn elsewhere(&self) -> Vec<(Span, String)> {
+        match self {
+            ResolveError::DuplicateName { name, elsewhere: Some(s), .. } => {
+                vec![(*s, format!("`{name}` first declared here"))]
+            }
+            ResolveError::WrongKind { name, elsewhere: Some(s), .. } => {
+                vec![(*s, format!("`{name}` is declared here"))]
+            }
+            ResolveError::NotUtf8 { used_at: Some(s), .. } => vec![(*s, "used here".to_string())],
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// Something valid but probably not what was meant; `check` prints it and still succeeds.
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+pub enum ResolveWarning {
+    #[error("the file declares objects but no `target`")]
+    #[diagnostic(
+        code(declutter::resolve::no_target),
+        severity(Warning),
+        help("it is checked as a library (like a cell file); add `target OBJECT` to make it a scenario")
+    )]
+    ObjectsWithoutTarget {
+        #[label("an object, but nothing to do with it")]
+        span: Span,
+    },
+}
+
+impl Located for ResolveWarning {
+    fn primary_span(&self) -> Option<Span> {
+        match self {
+            ResolveWarning::ObjectsWithoutTarget { span } => Some(*span),
+        }
+    }
+}
+
+impl ResolveWarning {
+    /// The stable code, e.g. `declutter::resolve::no_target`.
+    pub fn code_str(&self) -> String {
+        self.code().map(|c| c.to_string()).unwrap_or_default()
     }
 }
 

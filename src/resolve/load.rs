@@ -38,16 +38,36 @@ pub fn load(root: &Path, loader: &dyn Loader, sources: &mut SourceMap, errors: &
 
 impl Walk<'_> {
     fn visit(&mut self, path: &Path, from: Option<Span>) -> Option<FileId> {
-        let text = match self.loader.read_to_string(path) {
-            Ok(t) => t,
+        let bytes = match self.loader.read_bytes(path) {
+            Ok(b) => b,
             Err(e) => {
                 let reason = match e.kind() {
                     std::io::ErrorKind::NotFound => "no such file".to_string(),
-                    std::io::ErrorKind::InvalidData => "the file is not UTF-8 text".to_string(),
                     _ => e.to_string(),
                 };
                 self.errors.push(ResolveError::Unreadable { path: path.display().to_string(), reason, span: from });
                 return None;
+            }
+        };
+        let text = match String::from_utf8(bytes) {
+            Ok(t) => t,
+            Err(e) => {
+                // The lossy text keeps the valid prefix byte for byte, so the span is true
+                // and the report can show the line with the bad byte.
+                let at = e.utf8_error().valid_up_to();
+                let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+                let id = self.sources.add(path.display().to_string(), path, text);
+                self.done.insert(path.to_path_buf());
+                let span = Span::new(id, at, at + '\u{fffd}'.len_utf8());
+                let (line, column) = self.sources.line_col(span).unwrap_or((1, 1));
+                self.errors.push(ResolveError::NotUtf8 {
+                    path: path.display().to_string(),
+                    line,
+                    column,
+                    span,
+                    used_at: from,
+                });
+                return Some(id);
             }
         };
         // A byte-order mark is not part of the text; blank it so offsets stay true.
@@ -57,13 +77,9 @@ impl Walk<'_> {
         };
         let id = self.sources.add(path.display().to_string(), path, text.clone());
         self.done.insert(path.to_path_buf());
-        let file = match syntax::parse(id, &text) {
-            Ok(f) => f,
-            Err(es) => {
-                self.errors.extend(es.into_iter().map(ResolveError::Syntax));
-                return Some(id);
-            }
-        };
+        // The declarations that parsed are still resolved, so their errors are reported too.
+        let (file, syntax_errors) = syntax::parse_recovering(id, &text);
+        self.errors.extend(syntax_errors.into_iter().map(ResolveError::Syntax));
         let in_root = from.is_none();
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         self.stack.push(path.to_path_buf());
@@ -109,6 +125,7 @@ impl Walk<'_> {
                 what: "used",
                 path: used.value.clone(),
                 dir: dir_name(dir),
+                is_dir: self.loader.is_dir(&path),
                 span: used.span,
             });
             return;

@@ -16,7 +16,7 @@ mod scenario;
 mod units;
 mod yaml;
 
-pub use error::ResolveError;
+pub use error::{ResolveError, ResolveWarning};
 pub use scenario::*;
 pub use yaml::{to_yaml, to_yaml_with_joints, JointInfo};
 
@@ -42,19 +42,28 @@ pub struct Summary {
     pub objects: usize,
     pub fixed: usize,
     pub grasps: usize,
+    /// Valid but suspicious: for `check` to print (it still succeeds).
+    pub warnings: Vec<ResolveWarning>,
 }
 
 /// Like [`resolve`], but a file with neither `scenario` nor `target` is accepted as a library.
 pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Result<Summary, Vec<ResolveError>> {
     let (partial, errors) = run(root, loader, sources);
     let Some(p) = partial else { return Err(errors) };
+    let root_file = Some(p.anchor.file);
+    let errors = drop_follow_ons(errors);
     if p.name.is_none() && p.target.is_none() {
         if !errors.is_empty() {
             return Err(sorted(errors));
         }
+        // A library the user ran directly that declares objects of its own was most
+        // likely meant as a scenario whose `target` was forgotten.
+        let own_object = p.objects.iter().map(|o| o.body.span).find(|s| Some(s.file) == root_file);
+        let warnings = own_object.map(|span| ResolveWarning::ObjectsWithoutTarget { span }).into_iter().collect();
         return Ok(Summary {
             name: None,
             library: true,
+            warnings,
             robots: p.robots.len(),
             objects: p.objects.len(),
             fixed: p.fixed.len(),
@@ -65,6 +74,7 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
     Ok(Summary {
         name: s.name.clone(),
         library: false,
+        warnings: Vec::new(),
         robots: s.robots.len(),
         objects: s.objects.len(),
         fixed: s.fixed.len(),
@@ -72,17 +82,34 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
     })
 }
 
-fn finish(root: &Path, p: lower::Partial, mut errors: Vec<ResolveError>) -> Result<Scenario, Vec<ResolveError>> {
-    // A file that could not be read or parsed would likely have declared the robot or target.
-    let incomplete = errors.iter().any(|e| {
+/// True if some file could not be read or parsed in full: it would likely have declared
+/// names, the robot or the target that now look missing.
+fn incomplete(errors: &[ResolveError]) -> bool {
+    errors.iter().any(|e| {
         matches!(
             e,
             ResolveError::Syntax(_)
                 | ResolveError::Unreadable { .. }
+                | ResolveError::NotUtf8 { .. }
                 | ResolveError::UseCycle { .. }
                 | ResolveError::MissingFile { what: "used", .. }
         )
-    });
+    })
+}
+
+/// Without some file's declarations, "unknown name" and "wrong kind" errors are
+/// mostly echoes of the real cause (a syntax error in cell.dcl makes every hand
+/// unknown), and they would sort before it; drop them.
+fn drop_follow_ons(mut errors: Vec<ResolveError>) -> Vec<ResolveError> {
+    if incomplete(&errors) {
+        errors.retain(|e| !matches!(e, ResolveError::UnknownName { .. } | ResolveError::WrongKind { .. }));
+    }
+    errors
+}
+
+fn finish(root: &Path, p: lower::Partial, errors: Vec<ResolveError>) -> Result<Scenario, Vec<ResolveError>> {
+    let mut errors = drop_follow_ons(errors);
+    let incomplete = incomplete(&errors);
     if p.robots.is_empty() && !incomplete {
         errors.push(ResolveError::NoRobot { span: p.anchor });
     }

@@ -49,6 +49,21 @@ pub struct FileRef {
 pub struct JointValues {
     pub values: Vec<f64>,
     pub span: Span,
+    /// The unit each value was written with, and its span, so the world (which knows
+    /// which joints turn and which slide) can refuse `1cm` for a revolute joint. Empty
+    /// when not recorded (values built in code): then every value is taken as written.
+    pub units: Vec<(JointUnit, Span)>,
+}
+
+/// The kind of unit a joint value was written with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointUnit {
+    /// A bare number: radians or metres, by the joint.
+    Bare,
+    /// `deg` or `rad`.
+    Angle,
+    /// `m`, `cm` or `mm`.
+    Length,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -6,6 +6,9 @@ use crate::syntax::did_you_mean;
 
 /// Largest length anywhere in a scenario (metres). A robot cell is a few metres across.
 pub const MAX_LENGTH: f64 = 100.0;
+/// Smallest size or radius (metres): 0.01 mm. Below it a value is surely a unit slip,
+/// and collision checking at that scale is meaningless.
+pub const MIN_SIZE: f64 = 1e-5;
 /// Largest angle written anywhere (radians): a few turns either way.
 pub const MAX_ANGLE: f64 = 100.0;
 
@@ -103,6 +106,15 @@ pub fn positive_length(q: &Quantity, what: &str) -> Result<f64, ResolveError> {
             help: Some("sizes are full extents and radii are radii: both must be positive".to_string()),
         });
     }
+    if v < MIN_SIZE {
+        return Err(ResolveError::OutOfRange {
+            what: what.to_string(),
+            limit: "at least 0.01mm".to_string(),
+            value: written(q),
+            span: q.span,
+            help: Some("declutter rejects sizes below 0.01mm (1e-5 m) as absurd; check the unit".to_string()),
+        });
+    }
     Ok(v)
 }
 
@@ -117,9 +129,11 @@ pub fn integer(q: &Quantity, what: &str, lo: u64, hi: u64) -> Result<u64, Resolv
         });
     }
     let text = q.number.strip_prefix('+').unwrap_or(&q.number);
-    let n = match text.parse::<u64>() {
-        Ok(n) => n,
-        Err(_) => {
+    // `1e2` is the whole number 100; only the spelling differs.
+    let whole = (q.value.fract() == 0.0 && q.value >= 0.0 && q.value <= u64::MAX as f64).then_some(q.value as u64);
+    let n = match text.parse::<u64>().ok().or(whole) {
+        Some(n) => n,
+        None => {
             if !q.value.is_finite() {
                 return Err(ResolveError::NotFinite { span: q.span });
             }

@@ -94,6 +94,19 @@ pub(super) fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rul
             }
         }
     }
+    // The first characters of a number, string or name are that rule's business, not
+    // tokens worth listing next to it: `a number` covers `+`, `-` and `.`.
+    for (rule_word, firsts) in
+        [("a number", &["`+`", "`-`", "`.`"][..]), ("a \"string\"", &["`\"`"]), ("a name", &["`_`"])]
+    {
+        if words.iter().any(|w| w == rule_word) {
+            words.retain(|w| !firsts.contains(&w.as_str()));
+        }
+    }
+    // `_` shows up because a name could continue; that is never what the user missed.
+    if words.len() > 1 {
+        words.retain(|w| w != "`_`");
+    }
     // A unit can always follow a number; saying so only helps when nothing else fits.
     if words.len() > 1 {
         words.retain(|w| w != "a unit");
@@ -125,7 +138,8 @@ pub(super) fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rul
     let raw = text.get(..pos).unwrap_or("");
     let trimmed = raw.trim_end_matches([' ', '\t']);
     let spaced_number = trimmed.len() < raw.len() && trimmed.ends_with(|c: char| c.is_ascii_digit());
-    let help = hint(&found, spaced_number, &words, after);
+    let in_string = open_string_before(text, pos);
+    let help = hint(&found, spaced_number, &words, after, in_string);
     let label = if at_end {
         "the file ends after this".to_string()
     } else if expected.len() <= 40 {
@@ -142,14 +156,36 @@ pub(super) fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rul
     }
 }
 
-fn hint(found: &str, spaced_number: bool, words: &[String], after: &str) -> Option<String> {
-    if let Some(rest) = found.strip_prefix('"') {
-        if !rest.contains('"') {
-            return Some("a string must end with `\"` on the same line".to_string());
+/// True if the line up to `pos` holds a `"` that is not closed: the parser stopped inside a string.
+fn open_string_before(text: &str, pos: usize) -> bool {
+    let before = text.get(..pos).unwrap_or("");
+    let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+    let (mut open, mut escaped) = (false, false);
+    for c in line.chars() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' if open => escaped = true,
+            '"' => open = !open,
+            _ => {}
         }
     }
-    if words.iter().any(|w| w == "`\"`") {
+    open
+}
+
+fn hint(found: &str, spaced_number: bool, words: &[String], after: &str, in_string: bool) -> Option<String> {
+    let unterminated = found.strip_prefix('"').is_some_and(|rest| !rest.contains('"'));
+    if unterminated || (in_string && words.iter().any(|w| w == "`\"`")) {
         return Some("a string must end with `\"` on the same line".to_string());
+    }
+    let non_finite = ["nan", "inf", "infinity"].contains(&found.to_ascii_lowercase().trim_start_matches(['+', '-']));
+    if non_finite && words.iter().any(|w| w == "a number") {
+        return Some("non-finite numbers (nan, inf) are not allowed; write a finite quantity like `3cm`".to_string());
+    }
+    if found == "=" {
+        return Some("planner settings are written `key value`, without `=`: `seed 3`".to_string());
+    }
+    if let Some(c) = found.chars().next().filter(|c| !c.is_ascii() && c.is_alphanumeric()) {
+        return Some(format!("names are ASCII letters, digits and `_`; `{c}` is not one of them"));
     }
     let is_word = found.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_');
     if is_word && after.starts_with('(') && words.iter().any(|w| w.starts_with("a shape")) {

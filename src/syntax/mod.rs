@@ -9,7 +9,8 @@ mod error;
 mod expected;
 mod names;
 mod parser;
+mod recover;
 
 pub use error::SyntaxError;
 pub use names::did_you_mean;
-pub use parser::parse;
+pub use recover::{parse, parse_recovering};

@@ -7,7 +7,7 @@ use pest_derive::Parser;
 use super::ast::*;
 use super::expected::convert_error;
 use super::SyntaxError;
-use crate::diag::{FileId, Located, Span};
+use crate::diag::{FileId, Span};
 
 #[derive(Parser)]
 #[grammar = "../grammar/declutter.pest"]
@@ -15,46 +15,8 @@ pub(super) struct Grammar;
 
 type R<T> = Result<T, SyntaxError>;
 
-/// Most syntax errors reported for one file; after that the rest is likely noise.
-const MAX_SYNTAX_ERRORS: usize = 20;
-
-/// Parses one file. On failure returns its syntax errors: after each, parsing resumes
-/// at the next line that starts (in column 0) with a top-level keyword, so independent
-/// mistakes in different declarations are all reported.
-pub fn parse(file: FileId, text: &str) -> Result<File, Vec<SyntaxError>> {
-    // Makes pest record the literal tokens (`(`, `,`, `}`) it expected, for the message.
-    pest::set_error_detail(true);
-    let whole = Span::new(file, 0, text.len());
-    let mut errors = Vec::new();
-    let mut start = 0;
-    loop {
-        // Blank out what was already reported, keeping byte offsets (and line numbers) intact.
-        let masked: String;
-        let src = if start == 0 {
-            text
-        } else {
-            masked = text
-                .char_indices()
-                .map(|(i, c)| if i >= start || c == '\n' { c.to_string() } else { " ".repeat(c.len_utf8()) })
-                .collect();
-            &masked
-        };
-        match parse_all(file, src) {
-            Ok(items) if errors.is_empty() => return Ok(File { items, span: whole }),
-            Ok(_) => return Err(errors),
-            Err(e) => {
-                let pos = e.primary_span().map_or(text.len(), |s| s.start as usize);
-                errors.push(e);
-                match next_declaration(text, pos) {
-                    Some(next) if errors.len() < MAX_SYNTAX_ERRORS => start = next,
-                    _ => return Err(errors),
-                }
-            }
-        }
-    }
-}
-
-fn parse_all(file: FileId, text: &str) -> Result<Vec<Item>, SyntaxError> {
+/// Parses the whole text, stopping at the first error.
+pub(super) fn parse_all(file: FileId, text: &str) -> Result<Vec<Item>, SyntaxError> {
     let cx = Cx { file, text };
     let mut pairs = Grammar::parse(Rule::file, text).map_err(|e| convert_error(file, text, &e))?;
     let whole = Span::new(file, 0, text.len());
@@ -66,24 +28,6 @@ fn parse_all(file: FileId, text: &str) -> Result<Vec<Item>, SyntaxError> {
         }
     }
     Ok(items)
-}
-
-/// The start of the first line after the one holding `pos` that begins, in column 0,
-/// with a top-level keyword.
-fn next_declaration(text: &str, pos: usize) -> Option<usize> {
-    const KEYWORDS: [&str; 8] = ["scenario", "use", "hand", "robot", "fixed", "object", "planner", "target"];
-    let mut at = text.get(pos..)?.find('\n').map(|i| pos + i + 1)?;
-    while at < text.len() {
-        let line = &text[at..];
-        let starts = KEYWORDS.iter().any(|k| {
-            line.strip_prefix(k).is_some_and(|rest| !rest.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_'))
-        });
-        if starts {
-            return Some(at);
-        }
-        at = line.find('\n').map(|i| at + i + 1)?;
-    }
-    None
 }
 
 struct Cx<'t> {

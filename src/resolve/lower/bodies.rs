@@ -205,7 +205,20 @@ impl Lower<'_> {
             });
             return None;
         }
+        let mut named_seen = false;
         for a in &s.args {
+            if a.name.is_some() {
+                named_seen = true;
+            } else if named_seen {
+                // `cylinder(length: 1cm, 2cm)` would make 2cm the radius: surely not meant.
+                self.errors.push(ResolveError::ShapeArgument {
+                    problem: format!("a positional argument of `{kw}` after a named one"),
+                    span: a.span,
+                    help: Some(format!("name it too, or give all arguments in order: {signature}")),
+                });
+                ok = false;
+                continue;
+            }
             let slot = match &a.name {
                 None => {
                     let i = next;

@@ -13,6 +13,11 @@ use crate::syntax::ast;
 
 /// Most grasp copies one `repeat` may make.
 pub const MAX_REPEAT: u64 = 10_000;
+/// Most grasps one object may have after `repeat`s are expanded: every grasp is tried
+/// by every robot's inverse kinematics, so thousands make `check` crawl.
+pub const MAX_GRASPS_PER_OBJECT: usize = 1_000;
+/// Most grasps in the whole scenario after expansion, for the same reason.
+pub const MAX_GRASPS_TOTAL: usize = 10_000;
 
 impl Lower<'_> {
     pub(super) fn grasps(&mut self, b: &ast::Body, body: &Body) -> Vec<Grasp> {
@@ -25,6 +30,7 @@ impl Lower<'_> {
                     name: g.name.name.clone(),
                     span: g.name.span,
                     first: Some(*first),
+                    elsewhere: None,
                     help: Some(format!("grasp names are unique within `{}`", b.name.name)),
                 });
                 continue;
@@ -54,10 +60,8 @@ impl Lower<'_> {
                         self.once(&mut approach, "approach", v.unwrap_or(0.0), *span);
                     }
                     ast::GraspOption::Repeat { count, axis, span } => {
-                        let n = if count.unit.is_none()
-                            && count.number.trim_start_matches(['+', '-']).chars().all(|c| c == '0' || c == '.')
-                            && count.value == 0.0
-                        {
+                        // Any spelling of zero (`0`, `0.0`, `0e5`, `-0`) is the same slip.
+                        let n = if count.unit.is_none() && count.value == 0.0 {
                             self.errors.push(ResolveError::RepeatZero { span: count.span });
                             None
                         } else {
@@ -82,6 +86,14 @@ impl Lower<'_> {
                 }
             }
             let Some(pose) = pose else { continue };
+            let copies = repeat.map_or(1, |((n, _), _)| n as usize);
+            let blame = g.options.iter().find_map(|o| match o {
+                ast::GraspOption::Repeat { count, .. } => Some(count.span),
+                _ => None,
+            });
+            if !self.room_for_grasps(&b.name.name, out.len(), copies, blame.unwrap_or(g.name.span)) {
+                break;
+            }
             let approach = approach.map_or(0.0, |(a, _)| a);
             let hands = hands.map(|(h, _)| h);
             match repeat {
@@ -115,5 +127,31 @@ impl Lower<'_> {
             }
         }
         out
+    }
+
+    /// False (and an error) if `copies` more grasps would pass the per-object or total limit.
+    fn room_for_grasps(&mut self, object: &str, have: usize, copies: usize, span: Span) -> bool {
+        // After one limit error the scenario is rejected anyway; more objects would each
+        // repeat it, so their grasps are dropped quietly.
+        let Some(total) = self.grasp_total else { return false };
+        let (what, limit, value) = if have + copies > MAX_GRASPS_PER_OBJECT {
+            (format!("the number of grasps of `{object}`"), MAX_GRASPS_PER_OBJECT, have + copies)
+        } else if total + copies > MAX_GRASPS_TOTAL {
+            ("the number of grasps in the scenario".to_string(), MAX_GRASPS_TOTAL, total + copies)
+        } else {
+            self.grasp_total = Some(total + copies);
+            return true;
+        };
+        self.errors.push(ResolveError::OutOfRange {
+            what,
+            limit: format!("at most {limit} after `repeat`"),
+            value: format!("{value} with this one"),
+            span,
+            help: Some(format!(
+                "every grasp is tried by every robot; a few dozen per object are plenty (limits: {MAX_GRASPS_PER_OBJECT} per object, {MAX_GRASPS_TOTAL} in all)"
+            )),
+        });
+        self.grasp_total = None;
+        false
     }
 }
