@@ -30,11 +30,14 @@ fn arm_scenario(urdf: &str, home: Vec<f64>) -> Scenario {
 fn arm_scenario_dof(urdf: &str, home: Vec<f64>, dof: usize) -> Scenario {
     let mut r = robot("arm", urdf, home, None);
     r.urdf.span = span_of("\"arm.urdf\"");
-    r.home = JointValues { values: r.home.values.clone(), span: span_of("[0, 0, 0]") };
+    r.home = JointValues { values: r.home.values.clone(), span: span_of("[0, 0, 0]"), units: Vec::new() };
     let mut scn = scenario(vec![r], vec![], vec![], vec![]);
     // A valid `target arm at [...]`.
-    scn.target =
-        Target::Config { robot: RobotId(0), q: JointValues { values: vec![0.0; dof], span: sp(0, 1) }, span: sp(0, 1) };
+    scn.target = Target::Config {
+        robot: RobotId(0),
+        q: JointValues { values: vec![0.0; dof], span: sp(0, 1), units: Vec::new() },
+        span: sp(0, 1),
+    };
     scn
 }
 
@@ -73,7 +76,7 @@ fn broken_urdf_xml() {
 }
 
 #[test]
-fn xacro_has_no_links() {
+fn xacro_is_refused() {
     let xacro = r#"<?xml version="1.0"?>
 <robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">
   <xacro:include filename="$(find arm)/urdf/arm.xacro"/>
@@ -81,7 +84,7 @@ fn xacro_has_no_links() {
 </robot>"#;
     let loader = MemLoader::new().with("/m/arm.urdf.xacro", xacro);
     let errs = errors(&arm_scenario("/m/arm.urdf.xacro", vec![]), &loader);
-    assert_eq!(code(&errs[0]), "declutter::world::urdf_empty", "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::urdf_xacro", "{errs:?}");
     assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
     insta::assert_snapshot!(rendered(&errs));
 }
@@ -160,7 +163,7 @@ fn home_outside_limits() {
 #[test]
 fn drop_of_wrong_length_points_at_drop() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
-    scn.robots[0].drop = Some(JointValues { values: vec![0.0; 4], span: span_of("[0, 0, 0, 0]") });
+    scn.robots[0].drop = Some(JointValues { values: vec![0.0; 4], span: span_of("[0, 0, 0, 0]"), units: Vec::new() });
     let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0, 0]")));
@@ -213,47 +216,26 @@ fn several_errors_come_back_at_once_in_order() {
 #[test]
 fn target_configuration_is_checked_too() {
     let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
-    scn.target =
-        Target::Config { robot: RobotId(0), q: JointValues { values: vec![0.0; 2], span: sp(3, 5) }, span: sp(0, 9) };
+    scn.target = Target::Config {
+        robot: RobotId(0),
+        q: JointValues { values: vec![0.0; 2], span: sp(3, 5), units: Vec::new() },
+        span: sp(0, 9),
+    };
     let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::joint_count");
     assert_eq!(errs[0].primary_span(), Some(sp(3, 5)));
 }
 
 /// A tetrahedron as COLLADA and as OBJ, loaded through relative mesh paths.
-const DAE: &str = r##"<?xml version="1.0" encoding="utf-8"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
-  <library_geometries>
-    <geometry id="tet" name="tet">
-      <mesh>
-        <source id="tet-pos">
-          <float_array id="tet-pos-array" count="12">0 0 0 0.1 0 0 0 0.1 0 0 0 0.1</float_array>
-          <technique_common>
-            <accessor source="#tet-pos-array" count="4" stride="3">
-              <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-            </accessor>
-          </technique_common>
-        </source>
-        <vertices id="tet-vtx"><input semantic="POSITION" source="#tet-pos"/></vertices>
-        <triangles count="4">
-          <input semantic="VERTEX" source="#tet-vtx" offset="0"/>
-          <p>0 2 1 0 1 3 0 3 2 1 2 3</p>
-        </triangles>
-      </mesh>
-    </geometry>
-  </library_geometries>
-  <library_visual_scenes>
-    <visual_scene id="s"><node id="n"><instance_geometry url="#tet"/></node></visual_scene>
-  </library_visual_scenes>
-  <scene><instance_visual_scene url="#s"/></scene>
-</COLLADA>"##;
+fn dae() -> String {
+    dae_tetrahedron("1", "0.1", "0")
+}
 
 const OBJ: &str = "mtllib gone.mtl\nv 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 #[test]
 fn dae_and_obj_meshes_load() {
-    for (file, text) in [("tet.dae", DAE), ("tet.obj", OBJ)] {
+    for (file, text) in [("tet.dae", dae()), ("tet.obj", OBJ.to_string())] {
         let urdf =
             one_link(&format!(r#"<collision><geometry><mesh filename="meshes/{file}"/></geometry></collision>"#));
         let loader = MemLoader::new().with("/m/arm.urdf", urdf).with(format!("/m/meshes/{file}"), text);
@@ -268,4 +250,186 @@ fn dae_and_obj_meshes_load() {
     let errs = errors(&arm_scenario_dof("/m/arm.urdf", vec![0.0], 1), &loader);
     assert_eq!(code(&errs[0]), "declutter::world::mesh_load", "{errs:?}");
     assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+}
+
+/// The errors of the one-joint arm built from `urdf` (one value in `home`).
+fn urdf_errors(urdf: &str) -> Vec<WorldError> {
+    let loader = MemLoader::new().with("/m/arm.urdf", urdf.to_string());
+    // Sampling on: a URDF that slipped through would reach the self-collision sampler.
+    let opts = WorldOptions { self_collision_samples: 50, ..WorldOptions::default() };
+    match build(&arm_scenario_dof("/m/arm.urdf", vec![0.0], 1), &opts, &loader) {
+        Ok(_) => panic!("expected errors for\n{urdf}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn xacro_with_some_plain_links_is_refused_too() {
+    // Top-level links would load, and the ones inside <xacro:if> would vanish.
+    let urdf = one_link("").replace(
+        "<link name=\"base\"/>",
+        r#"<link name="base"/><xacro:if value="$(arg tool)"><link name="tool"/></xacro:if>"#,
+    );
+    let urdf = urdf.replace("<robot name=\"r\">", r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">"#);
+    let errs = urdf_errors(&urdf);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::urdf_xacro");
+    assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+    assert!(errs[0].help().is_some_and(|h| h.to_string().contains("xacro robot.urdf.xacro > robot.urdf")));
+}
+
+#[test]
+fn expanded_urdf_keeping_the_xacro_namespace_loads() {
+    // xacro's output keeps `xmlns:xacro` on <robot> (every real URDF in ../shared does).
+    let urdf =
+        one_link("").replace("<robot name=\"r\">", r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">"#);
+    let loader = MemLoader::new().with("/m/arm.urdf", urdf);
+    build(&arm_scenario_dof("/m/arm.urdf", vec![0.0], 1), &WorldOptions::default(), &loader)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+}
+
+#[test]
+fn absurd_prismatic_limits_are_refused_not_sampled() {
+    let urdf = one_link("<collision><geometry><box size=\"0.1 0.1 0.1\"/></geometry></collision>")
+        .replace("type=\"revolute\"", "type=\"prismatic\"")
+        .replace("lower=\"-1\" upper=\"1\"", "lower=\"-1e308\" upper=\"1e308\"");
+    let errs = urdf_errors(&urdf);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::urdf_limit");
+    assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+    assert!(matches!(&errs[0], WorldError::UrdfLimit { joint, .. } if joint == "j1"), "{errs:?}");
+    insta::assert_snapshot!(rendered(&errs));
+}
+
+#[test]
+fn non_finite_or_missing_limits_are_refused() {
+    for (limit, says) in [
+        (r#"<limit lower="NaN" upper="1" effort="1" velocity="1"/>"#, "not finite"),
+        (r#"<limit lower="-1" upper="inf" effort="1" velocity="1"/>"#, "not finite"),
+        (r#"<limit lower="-2000" upper="1" effort="1" velocity="1"/>"#, "beyond ±1000"),
+        (r#"<limit lower="1" upper="-1" effort="1" velocity="1"/>"#, "above its upper limit"),
+        ("", "has no <limit>"),
+    ] {
+        for kind in ["revolute", "prismatic"] {
+            let urdf = one_link("")
+                .replace(r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#, limit)
+                .replace("type=\"revolute\"", &format!("type=\"{kind}\""));
+            let errs = urdf_errors(&urdf);
+            assert_eq!(errs.len(), 1, "{kind} {limit}: {errs:?}");
+            assert_eq!(code(&errs[0]), "declutter::world::urdf_limit", "{kind} {limit}");
+            let msg = errs[0].to_string();
+            assert!(msg.contains("joint `j1`") && msg.contains(says), "{kind} {limit}: {msg}");
+        }
+    }
+    // A continuous joint needs no <limit>: it turns in (-2π, 2π).
+    let urdf = one_link("")
+        .replace("type=\"revolute\"", "type=\"continuous\"")
+        .replace(r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#, "");
+    let loader = MemLoader::new().with("/m/arm.urdf", urdf);
+    let k = declutter::world::load_kinematics(&file("/m/arm.urdf", sp(0, 1)), None, &WorldOptions::default(), &loader)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(k.limits(), &[(-std::f64::consts::TAU, std::f64::consts::TAU)]);
+}
+
+#[test]
+fn revolute_without_limit_has_a_pinned_message() {
+    let urdf = one_link("").replace(r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#, "");
+    insta::assert_snapshot!(rendered(&urdf_errors(&urdf)));
+}
+
+#[test]
+fn non_finite_numbers_anywhere_are_refused() {
+    let shape =
+        r#"<collision><origin xyz="0 0 0" rpy="0 0 0"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+    let base = one_link(shape).replace("<axis", r#"<origin xyz="0 0 0" rpy="0 0 0"/><axis"#);
+    let cases = [
+        // (text to replace, replacement, what the message names)
+        (r#"<origin xyz="0 0 0" rpy="0 0 0"/><axis"#, r#"<origin xyz="NaN 0 0" rpy="0 0 0"/><axis"#, "joint `j1`"),
+        (r#"<origin xyz="0 0 0" rpy="0 0 0"/><axis"#, r#"<origin xyz="0 0 0" rpy="0 inf 0"/><axis"#, "joint `j1`"),
+        (
+            r#"<origin xyz="0 0 0" rpy="0 0 0"/><geometry>"#,
+            r#"<origin xyz="0 0 1e300" rpy="0 0 0"/><geometry>"#,
+            "link `l1`",
+        ),
+        (
+            r#"<origin xyz="0 0 0" rpy="0 0 0"/><geometry>"#,
+            r#"<origin xyz="0 0 0" rpy="NaN 0 0"/><geometry>"#,
+            "link `l1`",
+        ),
+        (r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 NaN 1"/>"#, "joint `j1`"),
+        (r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 0 1e308"/>"#, "joint `j1`"),
+        (r#"<box size="0.1 0.1 0.1"/>"#, r#"<box size="0.1 inf 0.1"/>"#, "link `l1`"),
+        (r#"<box size="0.1 0.1 0.1"/>"#, r#"<sphere radius="NaN"/>"#, "link `l1`"),
+        (r#"<box size="0.1 0.1 0.1"/>"#, r#"<cylinder radius="0.1" length="1e300"/>"#, "link `l1`"),
+        (r#"<box size="0.1 0.1 0.1"/>"#, r#"<mesh filename="m.stl" scale="1 NaN 1"/>"#, "link `l1`"),
+    ];
+    for (from, to, names) in cases {
+        assert!(base.contains(from), "{from}");
+        let errs = urdf_errors(&base.replacen(from, to, 1));
+        assert_eq!(errs.len(), 1, "{to}: {errs:?}");
+        assert_eq!(code(&errs[0]), "declutter::world::urdf_structure", "{to}: {errs:?}");
+        assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+        let msg = errs[0].to_string();
+        assert!(msg.contains(names), "{to}: {msg}");
+    }
+    // A mimic joint with a NaN multiplier.
+    let urdf = format!(
+        "{}{}",
+        base.trim_end_matches("</robot>"),
+        r#"<link name="l2"/><joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+<mimic joint="j1" multiplier="NaN"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#
+    );
+    let errs = urdf_errors(&urdf);
+    assert_eq!(code(&errs[0]), "declutter::world::urdf_structure", "{errs:?}");
+    assert!(errs[0].to_string().contains("joint `j2`"), "{errs:?}");
+}
+
+#[test]
+fn robot_without_actuated_joints_says_so() {
+    let urdf = one_link("").replace("type=\"revolute\"", "type=\"fixed\"");
+    let errs = urdf_errors(&urdf);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::no_joints");
+    assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+    insta::assert_snapshot!(rendered(&errs));
+}
+
+/// `1cm` for a revolute joint was once read as 0.01 rad; the world, which knows which
+/// joints turn, refuses it and points at the value.
+#[test]
+fn a_length_for_a_turning_joint_is_refused() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("joint_unit");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = format!(
+        r#"scenario "unit"
+use "{root}/examples/cell.dcl"
+object can cylinder(radius: 3.3cm, length: 11.5cm) at (60cm, 0, 5.75cm) {{
+    grasp top at (0, 0, 4cm) rot (180deg, 0, 0) approach 8cm repeat 4 about z
+}}
+robot r3 {{
+    urdf "{root}/examples/robots/tx90.urdf"
+    base at (0, 1.5m, 0)
+    home [0, 1cm, 110deg, 0, 60deg, 0]
+}}
+target can
+"#
+    );
+    let file = dir.join("unit.dcl");
+    std::fs::write(&file, &text).unwrap();
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(&file, &declutter::diag::FsLoader, &mut sources).expect("resolves");
+    let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("refused");
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::joint_unit");
+    let span = errs[0].primary_span().expect("a span");
+    assert_eq!(&text[span.start as usize..span.end as usize], "1cm");
+    assert!(matches!(&errs[0], WorldError::JointUnit { joint, moves: "turns", .. } if joint == "joint_2"));
+    // The same value as an angle, or bare, is accepted.
+    for ok in ["10deg", "0.17"] {
+        std::fs::write(&file, text.replace("1cm", ok)).unwrap();
+        let mut sources = SourceMap::new();
+        let scn = declutter::resolve::resolve(&file, &declutter::diag::FsLoader, &mut sources).expect("resolves");
+        assert!(build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).is_ok(), "{ok}");
+    }
 }

@@ -179,3 +179,36 @@ fn prismatic_mimic_fixed_and_ignored_tags() {
         assert!((w.fk_flange(R0, q).translation.vector - expect).norm() < 1e-9);
     }
 }
+
+/// The planar arm's world, for the wrong-length contract below.
+fn planar_world() -> declutter::world::World {
+    let scn = scenario(vec![robot("p", planar3(), vec![0.0; 3], None)], vec![], vec![], vec![]);
+    build(&scn, &opts(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
+}
+
+// A configuration of the wrong length is a caller's bug: a plain panic naming the
+// lengths, not an index out of bounds somewhere inside (documented on `World::fk_flange`).
+#[test]
+#[should_panic(expected = "configuration of robot `p` has 2 values, but the robot has 3 joints")]
+fn check_with_a_short_configuration_panics_plainly() {
+    planar_world().check(R0, &[0.0, 0.0], &declutter::world::CheckCtx::new());
+}
+
+#[test]
+#[should_panic(expected = "configuration of robot `p` has 4 values, but the robot has 3 joints")]
+fn fk_links_with_a_long_configuration_panics_plainly() {
+    planar_world().fk_links(R0, &[0.0; 4]);
+}
+
+#[test]
+#[should_panic(expected = "configuration of robot `p` has 2 values, but the robot has 3 joints")]
+fn segment_with_a_short_end_panics_plainly() {
+    planar_world().check_segment(R0, &[0.0; 3], &[0.0; 2], 0.1, &declutter::world::CheckCtx::new());
+}
+
+#[test]
+fn ik_of_a_non_finite_pose_has_no_solution() {
+    let mut pose = at(0.5, 0.0, 0.0);
+    pose.translation.vector.x = f64::NAN;
+    assert!(planar_world().ik(R0, &pose, 1, 4).is_empty());
+}

@@ -68,6 +68,57 @@ fn shared_robots_load_with_finite_fk() {
     }
 }
 
+/// Every `*.urdf` under `dir`, sorted.
+fn urdfs_under(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let entries = std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
+        for e in entries {
+            let p = e.expect("dir entry").path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "urdf") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn every_shared_urdf_loads_with_finite_fk_at_random_configurations() {
+    use rand::{RngExt, SeedableRng};
+    let Some(root) = shared_robots() else { return };
+    let files = urdfs_under(&root);
+    // The list above is hand-checked; this one cannot miss a file added later.
+    assert!(files.len() >= 10, "{files:?}");
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    for path in &files {
+        let name = path.strip_prefix(&root).unwrap_or(path).display().to_string();
+        let k = load(path, MeshMode::ConvexHull);
+        assert!(!k.joint_names().is_empty(), "{name}");
+        assert!(k.limits().iter().all(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo <= hi), "{name}");
+        assert_finite(&k, &name);
+        let zero: Vec<f64> = k.limits().iter().map(|(lo, hi)| 0f64.clamp(*lo, *hi)).collect();
+        let mut configs = vec![zero];
+        for _ in 0..5 {
+            configs.push(
+                k.limits().iter().map(|(lo, hi)| if hi > lo { rng.random_range(*lo..*hi) } else { *lo }).collect(),
+            );
+        }
+        for q in configs {
+            for (link, p) in k.fk_links(&q) {
+                let ok = p.translation.vector.iter().all(|v| v.is_finite())
+                    && p.rotation.coords.iter().all(|v| v.is_finite());
+                assert!(ok, "{name}: link {link} not finite at {q:?}");
+            }
+        }
+        println!("{name}: {} joints, {} shapes", k.joint_names().len(), k.shape_count());
+    }
+}
+
 #[test]
 fn shared_meshes_load_as_triangle_meshes_too() {
     let Some(root) = shared_robots() else { return };

@@ -10,11 +10,11 @@ use nalgebra::Isometry3;
 use super::chain::{Chain, ChainError};
 use super::check::{self, CheckCtx, Entry, Owner, Scene};
 use super::error::WorldError;
-use super::shapes::{resolve_uri, Geometry, MeshCache, MeshMode, Placed};
+use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
 use super::{Check, Config, World};
 use crate::diag::{Loader, Span};
-use crate::resolve::{FileRef, FixedId, JointValues, ObjectId, Pose, RobotId, Scenario, Shape, Target};
+use crate::resolve::{FileRef, FixedId, JointUnit, JointValues, ObjectId, Pose, RobotId, Scenario, Shape, Target};
 
 /// How to build a world.
 #[derive(Debug, Clone, PartialEq)]
@@ -252,7 +252,17 @@ impl RobotKinematics {
         self.shapes
     }
     /// Pose of every link in the robot's base frame.
+    ///
+    /// # Panics
+    /// If `q.len()` is not the number of [`joint_names`](Self::joint_names): a bug
+    /// in the caller, not something a URDF can cause.
     pub fn fk_links(&self, q: &[f64]) -> Vec<(String, Pose)> {
+        assert!(
+            q.len() == self.chain.dof(),
+            "configuration has {} values, but the robot has {} joints",
+            q.len(),
+            self.chain.dof()
+        );
         let mut out = vec![Pose::identity(); self.chain.links.len()];
         self.chain.fk_into(q, &mut out);
         self.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), p)).collect()
@@ -328,6 +338,16 @@ impl LoadCtx<'_> {
                 return None;
             }
         };
+        // Without this, `home` would be reported as having too many values for 0 joints.
+        if chain.dof() == 0 {
+            self.errs.push(WorldError::NoJoints {
+                robot: robot.to_string(),
+                root: chain.links[0].name.clone(),
+                flange: chain.links[chain.flange].name.clone(),
+                span: urdf.span,
+            });
+            return None;
+        }
         let mut shapes = Vec::new();
         let mut bodies = Vec::new();
         let root_group = chain.links[0].group;
@@ -356,7 +376,11 @@ impl LoadCtx<'_> {
                 self.errs.push(match p {
                     UrdfProblem::Parse(reason) => WorldError::UrdfParse { path, reason, span: file.span },
                     UrdfProblem::Empty => WorldError::UrdfEmpty { path, span: file.span },
+                    UrdfProblem::Xacro => WorldError::UrdfXacro { path, span: file.span },
                     UrdfProblem::Structure(reason) => WorldError::UrdfStructure { path, reason, span: file.span },
+                    UrdfProblem::Limit { joint, reason } => {
+                        WorldError::UrdfLimit { path, joint, reason, span: file.span }
+                    }
                 });
                 None
             }
@@ -412,7 +436,7 @@ impl LoadCtx<'_> {
                         self.errs.push(WorldError::MeshMissing {
                             link: link.to_string(),
                             uri: uri.clone(),
-                            tried: tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+                            tried: describe_tried(&tried),
                             span: file.span,
                         });
                         continue;
@@ -450,7 +474,7 @@ impl LoadCtx<'_> {
                     self.errs.push(WorldError::MeshMissing {
                         link: body.to_string(),
                         uri: file.written.clone(),
-                        tried: file.path.display().to_string(),
+                        tried: describe_tried(std::slice::from_ref(&file.path)),
                         span: file.span,
                     });
                     return None;
@@ -486,6 +510,26 @@ impl LoadCtx<'_> {
             return None;
         }
         let mut ok = true;
+        let turns = super::ik::rotational(chain);
+        for ((unit, span), (turns, name)) in v.units.iter().zip(turns.iter().zip(&chain.joint_names)) {
+            let (moves, written) = match (unit, turns) {
+                (JointUnit::Length, true) => ("turns", "a length"),
+                (JointUnit::Angle, false) => ("slides", "an angle"),
+                _ => continue,
+            };
+            ok = false;
+            self.errs.push(WorldError::JointUnit {
+                robot: robot.into(),
+                what: what.into(),
+                joint: name.clone(),
+                moves,
+                written,
+                span: *span,
+            });
+        }
+        if !ok {
+            return None;
+        }
         for (index, ((x, (lo, hi)), name)) in v.values.iter().zip(&chain.limits).zip(&chain.joint_names).enumerate() {
             if !(x.is_finite() && *x >= lo - check::LIMIT_SLACK && *x <= hi + check::LIMIT_SLACK) {
                 ok = false;

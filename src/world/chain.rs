@@ -7,6 +7,8 @@
 //! follow their leader wherever they are.
 
 use nalgebra::{Isometry3, Matrix6xX, Translation3, UnitQuaternion, Vector3};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
 
 use super::urdf::{Model, Motion};
 
@@ -188,17 +190,26 @@ impl Chain {
         }
     }
 
+    /// `t * motion_pose(motion, v)`, with a revolute joint's zero translation skipped:
+    /// the hot loop of FK and IK.
+    #[inline]
+    fn apply_motion(t: &mut Isometry3<f64>, motion: Motion, v: f64) {
+        match motion {
+            Motion::Fixed => {}
+            Motion::Rotate(axis) => t.rotation *= UnitQuaternion::from_axis_angle(&axis, v),
+            m => *t *= Self::motion_pose(m, v),
+        }
+    }
+
     /// Poses of every link in the base frame, written into `out` (length = number of links).
     pub fn fk_into(&self, q: &[f64], out: &mut [Isometry3<f64>]) {
         for (i, l) in self.links.iter().enumerate() {
             out[i] = match l.parent {
                 None => Isometry3::identity(),
                 Some(p) => {
-                    let joint = out[p] * l.pose_parent_joint;
-                    match l.motion {
-                        Motion::Fixed => joint,
-                        m => joint * Self::motion_pose(m, Self::joint_value(l.source, q)),
-                    }
+                    let mut t = out[p] * l.pose_parent_joint;
+                    Self::apply_motion(&mut t, l.motion, Self::joint_value(l.source, q));
+                    t
                 }
             };
         }
@@ -210,9 +221,7 @@ impl Chain {
         for &l in &self.path[1..] {
             let link = &self.links[l];
             t *= link.pose_parent_joint;
-            if link.motion != Motion::Fixed {
-                t *= Self::motion_pose(link.motion, Self::joint_value(link.source, q));
-            }
+            Self::apply_motion(&mut t, link.motion, Self::joint_value(link.source, q));
         }
         t
     }
@@ -220,37 +229,81 @@ impl Chain {
     /// TCP pose (base frame) and its geometric Jacobian, one column per actuated joint,
     /// rows (linear; angular).
     pub fn jacobian(&self, q: &[f64], pose_flange_tcp: &Isometry3<f64>, jac: &mut Matrix6xX<f64>) -> Isometry3<f64> {
+        // One pass: a revolute column is w × (p_tcp − o) = w × p_tcp − w × o. The angular
+        // rows collect Σ w (mimic joints share a column), the linear rows Σ −w × o and the
+        // slides; the w × p_tcp term is added once the TCP is known.
         jac.fill(0.0);
-        let tcp = self.fk_flange(q) * pose_flange_tcp;
-        let p_tcp = tcp.translation.vector;
         let mut t = Isometry3::identity();
         for &l in &self.path[1..] {
             let link = &self.links[l];
             t *= link.pose_parent_joint;
             if let Source::Active { index, mult, .. } = link.source {
-                let origin = t.translation.vector;
                 match link.motion {
                     Motion::Rotate(axis) => {
-                        let w: Vector3<f64> = t.rotation * axis.into_inner();
-                        let v = w.cross(&(p_tcp - origin));
+                        let w: Vector3<f64> = t.rotation * axis.into_inner() * mult;
+                        let v = -w.cross(&t.translation.vector);
                         for k in 0..3 {
-                            jac[(k, index)] += v[k] * mult;
-                            jac[(k + 3, index)] += w[k] * mult;
+                            jac[(k, index)] += v[k];
+                            jac[(k + 3, index)] += w[k];
                         }
                     }
                     Motion::Slide(axis) => {
-                        let v: Vector3<f64> = t.rotation * axis.into_inner();
+                        let v: Vector3<f64> = t.rotation * axis.into_inner() * mult;
                         for k in 0..3 {
-                            jac[(k, index)] += v[k] * mult;
+                            jac[(k, index)] += v[k];
                         }
                     }
                     Motion::Fixed => {}
                 }
             }
-            if link.motion != Motion::Fixed {
-                t *= Self::motion_pose(link.motion, Self::joint_value(link.source, q));
+            Self::apply_motion(&mut t, link.motion, Self::joint_value(link.source, q));
+        }
+        let tcp = t * pose_flange_tcp;
+        let p_tcp = tcp.translation.vector;
+        for mut col in jac.column_iter_mut() {
+            let w = Vector3::new(col[3], col[4], col[5]);
+            let v = w.cross(&p_tcp);
+            for k in 0..3 {
+                col[k] += v[k];
             }
         }
         tcp
+    }
+}
+
+/// A uniform sample of `[lo, hi)` that cannot panic, unlike a bare `random_range` on
+/// a non-finite or empty range: such a range yields its finite end, or 0.
+pub(crate) fn sample_in(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
+    let width = hi - lo;
+    if width > 0.0 && width.is_finite() {
+        // `random_range` cannot fail on a finite, non-empty range; kept (rather than
+        // an affine map) so the random stream, and the pinned schedules, are unchanged.
+        rng.random_range(lo..hi)
+    } else if lo.is_finite() {
+        lo
+    } else if hi.is_finite() {
+        hi
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::SeedableRng;
+
+    use super::*;
+
+    #[test]
+    fn sampling_never_panics_and_stays_in_range() {
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        for (lo, hi) in [(-1e308, 1e308), (f64::NEG_INFINITY, 1.0), (f64::NAN, f64::NAN), (2.0, 1.0), (0.5, 0.5)] {
+            let v = sample_in(&mut rng, lo, hi);
+            assert!(v.is_finite(), "[{lo}, {hi}] gave {v}");
+        }
+        for _ in 0..1000 {
+            let v = sample_in(&mut rng, -0.3, 0.7);
+            assert!((-0.3..=0.7).contains(&v));
+        }
     }
 }

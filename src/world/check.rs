@@ -17,11 +17,11 @@ use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Shape, SharedShape};
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::build::RobotModel;
-use super::shapes::{to_ppose, Placed};
+use super::shapes::{aabb_of, to_ppose, Obb, Placed};
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::{FixedId, ObjectId, RobotId};
 
@@ -74,12 +74,13 @@ pub(crate) struct Entry {
     pub shape: SharedShape,
     pub pose: PPose,
     pub aabb: Aabb,
+    pub obb: Obb,
 }
 
 impl Entry {
     pub fn new(owner: Owner, p: Placed) -> Entry {
-        let aabb = p.shape.compute_aabb(&p.pose);
-        Entry { owner, shape: p.shape, pose: p.pose, aabb }
+        let aabb = aabb_of(&*p.shape.0, &p.pose);
+        Entry { owner, shape: p.shape, pose: p.pose, aabb, obb: p.obb }
     }
 }
 
@@ -114,7 +115,10 @@ pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) ->
 /// Collision of a moving shape (robot or carried) with another: by its eroded
 /// primitive when it has one (one intersection test), else by contact depth.
 #[inline]
-fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape) -> bool {
+fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2: &Obb) -> bool {
+    if !moving.eroded_obb.as_ref().unwrap_or(&moving.obb).may_touch(p1, obb2, p2) {
+        return false;
+    }
     match &moving.eroded {
         Some(e) => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
         None => collide(p1, &*moving.shape.0, p2, s2),
@@ -148,7 +152,7 @@ fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     s.shape_aabb.clear();
     for sh in &m.shapes {
         let pose = s.link_pose[m.bodies[sh.body].link] * sh.placed.pose;
-        s.shape_aabb.push(sh.placed.shape.compute_aabb(&pose));
+        s.shape_aabb.push(aabb_of(&*sh.placed.shape.0, &pose));
         s.shape_pose.push(pose);
     }
     s.body_aabb.clear();
@@ -161,10 +165,28 @@ fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     }
 }
 
+/// The contract of every public method taking a configuration (documented on
+/// [`World::fk_flange`]): a wrong length is the caller's bug, reported plainly here
+/// rather than as an index out of bounds deep in the kinematics.
+#[inline]
+pub(crate) fn assert_dof(m: &RobotModel, q: &[f64]) {
+    assert!(
+        q.len() == m.chain.dof(),
+        "configuration of robot `{}` has {} values, but the robot has {} joints",
+        m.name,
+        q.len(),
+        m.chain.dof()
+    );
+}
+
 pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
+    check_parts(w, r, q, ctx, true)
+}
+
+fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: bool) -> Check {
     ctx.checks.set(ctx.checks.get() + 1);
     let m = &w.robots[r.index()];
-    assert_eq!(q.len(), m.chain.dof(), "configuration of robot `{}` has the wrong length", m.name);
+    assert_dof(m, q);
     for ((v, (lo, hi)), name) in q.iter().zip(&m.chain.limits).zip(&m.chain.joint_names) {
         if !(*v >= lo - LIMIT_SLACK && *v <= hi + LIMIT_SLACK) {
             return Check::Blocked(Blocker::JointLimit { joint: name.clone(), value: *v });
@@ -173,54 +195,59 @@ pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
     SCRATCH.with(|cell| {
         let mut s = cell.borrow_mut();
         pose_robot(m, q, &mut s);
-        check_posed(w, m, ctx, &mut s)
+        check_posed(w, m, ctx, &mut s, robot_part)
     })
 }
 
-fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Check {
+/// `robot_part: false` leaves out the robot's own bodies (against the scene and each
+/// other) and checks only the carried object: what carrying adds to a configuration
+/// whose empty-hand check is already known.
+fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch, robot_part: bool) -> Check {
     let held_obj = ctx.held.as_ref().map(|h| h.object);
     let mut labels = ObjectSet::new();
-    // Robot bodies against the static scene.
-    for (bi, b) in m.bodies.iter().enumerate() {
-        if !b.moving {
-            continue;
-        }
-        for leaf in m.scene.bvh.intersect_aabb(&s.body_aabb[bi]) {
-            let e = &m.scene.entries[leaf as usize];
-            if let Owner::Object(o) = e.owner {
-                if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
-                    continue;
-                }
+    if robot_part {
+        // Robot bodies against the static scene.
+        for (bi, b) in m.bodies.iter().enumerate() {
+            if !b.moving {
+                continue;
             }
-            let hit = b.shapes.clone().any(|si| {
-                s.shape_aabb[si].intersects(&e.aabb)
-                    && collide_moving(&s.shape_pose[si], &m.shapes[si].placed, &e.pose, &*e.shape.0)
-            });
-            if hit {
-                match e.owner {
-                    Owner::Fixed(body) => return Check::Blocked(Blocker::Fixed { body, link: b.name.clone() }),
-                    Owner::Robot(other, ob) => {
-                        return Check::Blocked(Blocker::Robot {
-                            other,
-                            link: b.name.clone(),
-                            other_link: w.robots[other.index()].bodies[ob].name.clone(),
-                        })
+            for leaf in m.scene.bvh.intersect_aabb(&s.body_aabb[bi]) {
+                let e = &m.scene.entries[leaf as usize];
+                if let Owner::Object(o) = e.owner {
+                    if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
+                        continue;
                     }
-                    Owner::Object(o) => labels.insert(o),
+                }
+                let hit = b.shapes.clone().any(|si| {
+                    s.shape_aabb[si].intersects(&e.aabb)
+                        && collide_moving(&s.shape_pose[si], &m.shapes[si].placed, &e.pose, &*e.shape.0, &e.obb)
+                });
+                if hit {
+                    match e.owner {
+                        Owner::Fixed(body) => return Check::Blocked(Blocker::Fixed { body, link: b.name.clone() }),
+                        Owner::Robot(other, ob) => {
+                            return Check::Blocked(Blocker::Robot {
+                                other,
+                                link: b.name.clone(),
+                                other_link: w.robots[other.index()].bodies[ob].name.clone(),
+                            })
+                        }
+                        Owner::Object(o) => labels.insert(o),
+                    }
                 }
             }
         }
-    }
-    // Self-collision.
-    for &(a, b) in &m.self_pairs {
-        if !s.body_aabb[a].intersects(&s.body_aabb[b]) {
-            continue;
-        }
-        if bodies_collide(m, s, a, b) {
-            return Check::Blocked(Blocker::SelfCollision {
-                link_a: m.bodies[a].name.clone(),
-                link_b: m.bodies[b].name.clone(),
-            });
+        // Self-collision.
+        for &(a, b) in &m.self_pairs {
+            if !s.body_aabb[a].intersects(&s.body_aabb[b]) {
+                continue;
+            }
+            if bodies_collide(m, s, a, b) {
+                return Check::Blocked(Blocker::SelfCollision {
+                    link_a: m.bodies[a].name.clone(),
+                    link_b: m.bodies[b].name.clone(),
+                });
+            }
         }
     }
     // The carried object.
@@ -231,7 +258,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
         s.held_aabb.clear();
         for p in parts {
             let pose = flange * p.pose;
-            s.held_aabb.push(p.shape.compute_aabb(&pose));
+            s.held_aabb.push(aabb_of(&*p.shape.0, &pose));
             s.held_pose.push(pose);
         }
         for (pi, p) in parts.iter().enumerate() {
@@ -242,7 +269,7 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
                         continue;
                     }
                 }
-                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0) {
+                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0, &e.obb) {
                     continue;
                 }
                 match e.owner {
@@ -261,10 +288,10 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch) -> Ch
                 if b.holds || !s.body_aabb[bi].intersects(&s.held_aabb[pi]) {
                     continue;
                 }
-                let hit = b
-                    .shapes
-                    .clone()
-                    .any(|si| collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*m.shapes[si].placed.shape.0));
+                let hit = b.shapes.clone().any(|si| {
+                    let other = &m.shapes[si].placed;
+                    collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*other.shape.0, &other.obb)
+                });
                 if hit {
                     return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
                 }
@@ -280,24 +307,97 @@ fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
             let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
                 && if pa.eroded.is_some() || pb.eroded.is_none() {
-                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0)
+                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0, &pb.obb)
                 } else {
-                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0)
+                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0, &pa.obb)
                 }
         })
     })
 }
 
+/// The planner's coarse segment check: the samples of `check_subdivided(.., 1, ..)`,
+/// visited coarse-to-fine (ends, middle, quarters, ...) so a blocked segment, the
+/// common case for long roadmap edges, is found after a few samples. The labels are
+/// the same in any order; only which blocker is reported may differ.
 pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+    segment_coarse_to_fine(w, r, a, b, step, ctx, true)
+}
+
+/// The samples of [`check_segment`], checking only the carried object (see
+/// [`check_posed`]).
+pub(crate) fn check_segment_held(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+    segment_coarse_to_fine(w, r, a, b, step, ctx, false)
+}
+
+fn segment_coarse_to_fine(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+    ctx: &CheckCtx,
+    robot_part: bool,
+) -> Check {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let n = steps(a, b, step, 1);
+    let mut q = a.to_vec();
+    let mut out = ObjectSet::new();
+    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
+    let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
+    let mut stride = top;
+    while stride > 0 {
+        // Multiples of `stride` not already visited as multiples of `2 * stride`.
+        let first = if stride == top { 0 } else { stride };
+        let by = if stride == top { stride } else { 2 * stride };
+        for i in (first..=n).step_by(by) {
+            sample(a, b, i, n, &mut q);
+            match check_parts(w, r, &q, ctx, robot_part) {
+                Check::Blocked(bl) => return Check::Blocked(bl),
+                Check::Touches(l) => out.union_with(&l),
+            }
+        }
+        stride /= 2;
+    }
+    Check::Touches(out)
+}
+
+/// Samples of a segment with steps of at most `step`, each cut into `parts`.
+fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
     let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
-    let n = if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 };
+    // Saturating: a NaN or infinite span must not overflow (the limits check blocks it).
+    (if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 }).saturating_mul(parts.max(1))
+}
+
+/// Sample `i` of `n` on a -> b; the last is `b` exactly.
+#[inline]
+fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
+    let t = i as f64 / n as f64;
+    for (k, v) in q.iter_mut().enumerate() {
+        *v = if i == n { b[k] } else { a[k] + (b[k] - a[k]) * t };
+    }
+}
+
+/// Steps of at most `step`, each cut into `parts`: the samples include those of
+/// `parts = 1`, so the labels found can only grow with `parts`.
+pub(crate) fn check_subdivided(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+    parts: usize,
+    ctx: &CheckCtx,
+) -> Check {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let n = steps(a, b, step, parts);
     let mut q = a.to_vec();
     let mut out = ObjectSet::new();
     for i in 0..=n {
-        let t = i as f64 / n as f64;
-        for (k, v) in q.iter_mut().enumerate() {
-            *v = if i == n { b[k] } else { a[k] + (b[k] - a[k]) * t };
-        }
+        sample(a, b, i, n, &mut q);
         match check(w, r, &q, ctx) {
             Check::Blocked(bl) => return Check::Blocked(bl),
             Check::Touches(l) => out.union_with(&l),
@@ -346,7 +446,7 @@ pub(crate) fn self_pairs(
     let mut q = vec![0.0; m.chain.dof()];
     for _ in 0..samples {
         for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
-            *v = if hi > lo { rng.random_range(*lo..*hi) } else { *lo };
+            *v = super::chain::sample_in(&mut rng, *lo, *hi);
         }
         pose_robot(m, &q, &mut s);
         for (k, &(a, b)) in pairs.iter().enumerate() {

@@ -39,6 +39,43 @@ pub enum WorldError {
         span: Span,
     },
 
+    #[error("URDF `{path}` is an unexpanded xacro file")]
+    #[diagnostic(
+        code(declutter::world::urdf_xacro),
+        help("expand it first: `xacro robot.urdf.xacro > robot.urdf`; its `<xacro:...>` elements would otherwise be dropped")
+    )]
+    UrdfXacro {
+        path: String,
+        #[label("this file contains <xacro:...> elements")]
+        span: Span,
+    },
+
+    #[error("URDF `{path}`: joint `{joint}` {reason}")]
+    #[diagnostic(
+        code(declutter::world::urdf_limit),
+        help("a revolute or prismatic joint needs `<limit lower=\"..\" upper=\"..\" effort=\"..\" velocity=\"..\"/>` with its real, finite travel (rad or m); a joint that turns without end is `type=\"continuous\"`")
+    )]
+    UrdfLimit {
+        path: String,
+        joint: String,
+        reason: String,
+        #[label("in this robot model")]
+        span: Span,
+    },
+
+    #[error("robot `{robot}` has no actuated joint between its root link `{root}` and its flange `{flange}`")]
+    #[diagnostic(
+        code(declutter::world::no_joints),
+        help("a robot needs at least one revolute, continuous or prismatic joint on the chain to its flange; check the URDF's joints, or name a deeper link with `flange`")
+    )]
+    NoJoints {
+        robot: String,
+        root: String,
+        flange: String,
+        #[label("this robot model cannot move")]
+        span: Span,
+    },
+
     #[error("URDF `{path}`: {reason}")]
     #[diagnostic(code(declutter::world::urdf_structure))]
     UrdfStructure {
@@ -48,7 +85,7 @@ pub enum WorldError {
         span: Span,
     },
 
-    #[error("mesh `{uri}` of link `{link}` not found (looked at {tried})")]
+    #[error("mesh `{uri}` of link `{link}` not found ({tried})")]
     #[diagnostic(
         code(declutter::world::mesh_missing),
         help("`package://NAME/...` is searched in the URDF's folder and its ancestors, then in `--package-path` directories and DECLUTTER_PACKAGE_PATH")
@@ -56,6 +93,7 @@ pub enum WorldError {
     MeshMissing {
         link: String,
         uri: String,
+        /// "looked at A, B", or why nothing could be looked at.
         tried: String,
         #[label("loading this file")]
         span: Span,
@@ -118,6 +156,21 @@ pub enum WorldError {
         index: usize,
     },
 
+    #[error("`{what}` of robot `{robot}`: joint `{joint}` {moves}, but its value is written as {written}")]
+    #[diagnostic(
+        code(declutter::world::joint_unit),
+        help("write an angle (`deg` or `rad`) for a joint that turns and a length (`m`, `cm`, `mm`) for one that slides; a bare number is radians or metres by the joint")
+    )]
+    JointUnit {
+        robot: String,
+        what: String,
+        joint: String,
+        moves: &'static str,
+        written: &'static str,
+        #[label("{written}")]
+        span: Span,
+    },
+
     #[error("`{what}` of robot `{robot}` is in collision: {reason}")]
     #[diagnostic(
         code(declutter::world::config_collides),
@@ -138,6 +191,9 @@ impl Located for WorldError {
             WorldError::UrdfRead { span, .. }
             | WorldError::UrdfParse { span, .. }
             | WorldError::UrdfEmpty { span, .. }
+            | WorldError::UrdfXacro { span, .. }
+            | WorldError::UrdfLimit { span, .. }
+            | WorldError::NoJoints { span, .. }
             | WorldError::UrdfStructure { span, .. }
             | WorldError::MeshMissing { span, .. }
             | WorldError::MeshLoad { span, .. }
@@ -145,6 +201,7 @@ impl Located for WorldError {
             | WorldError::UnknownLink { span, .. }
             | WorldError::JointCount { span, .. }
             | WorldError::JointLimit { span, .. }
+            | WorldError::JointUnit { span, .. }
             | WorldError::ConfigCollides { span, .. } => *span,
         })
     }

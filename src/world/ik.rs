@@ -3,7 +3,7 @@
 //! joints wrapped by 2π when that brings them inside). Deterministic per seed.
 
 use nalgebra::{Isometry3, Matrix6, Matrix6xX, Vector6};
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::build::RobotModel;
@@ -14,7 +14,9 @@ use crate::resolve::Pose;
 
 /// Position (m) and rotation (rad) error under which a solution is accepted.
 pub(crate) const IK_TOLERANCE: f64 = 1e-9;
-const MAX_ITERATIONS: usize = 150;
+/// A converging start needs about 15 iterations on average (shipped examples); one
+/// still far off after 40 is stuck (at a limit or a singularity) and another start is cheaper.
+const MAX_ITERATIONS: usize = 40;
 /// Two solutions closer than this in every joint are the same.
 const DISTINCT: f64 = 1e-4;
 
@@ -26,9 +28,27 @@ fn pose_error(target: &Isometry3<f64>, cur: &Isometry3<f64>) -> Vector6<f64> {
 }
 
 fn clamp_into(chain: &Chain, q: &mut [f64], rotational: &[bool]) {
+    clamp_limits(&chain.limits, q, rotational)
+}
+
+/// Brings each value inside its limits, by whole turns for revolute joints when that
+/// suffices, else by clamping.
+fn clamp_limits(limits: &[(f64, f64)], q: &mut [f64], rotational: &[bool]) {
     use std::f64::consts::TAU;
-    for ((v, (lo, hi)), rot) in q.iter_mut().zip(&chain.limits).zip(rotational) {
-        if *rot {
+    for ((v, (lo, hi)), rot) in q.iter_mut().zip(limits).zip(rotational) {
+        if *rot && v.is_finite() {
+            // Far outside, jump by whole turns at once: a huge DLS step would loop for
+            // ages, and forever past 1e17 where `v - TAU == v`. Nearer, the loops below
+            // keep results bit-identical to the pinned schedules.
+            const FAR: f64 = 64.0 * TAU;
+            if *v - *hi > FAR {
+                let k = ((*v - *hi) / TAU).ceil();
+                // When no whole turn lands inside, the loop would end clamped at `hi`.
+                *v = if *v - k * TAU >= *lo { *v - k * TAU } else { *hi };
+            } else if *lo - *v > FAR {
+                let k = ((*lo - *v) / TAU).ceil();
+                *v = if *v + k * TAU <= *hi { *v + k * TAU } else { *lo };
+            }
             while *v > *hi && *v - TAU >= *lo {
                 *v -= TAU;
             }
@@ -36,6 +56,7 @@ fn clamp_into(chain: &Chain, q: &mut [f64], rotational: &[bool]) {
                 *v += TAU;
             }
         }
+        // (Limits are finite and ordered, checked at load, so `clamp` cannot panic.)
         *v = v.clamp(*lo, *hi);
     }
 }
@@ -54,31 +75,38 @@ pub(crate) fn rotational(chain: &Chain) -> Vec<bool> {
 pub(crate) fn refine(m: &RobotModel, target: &Isometry3<f64>, q: &mut [f64], rot: &[bool]) -> bool {
     let n = m.chain.dof();
     let mut jac = Matrix6xX::zeros(n);
+    let mut jac_trial = Matrix6xX::zeros(n);
     let mut trial = q.to_vec();
     let mut lambda = 1e-2;
-    let mut cur = m.chain.jacobian(q, &m.pose_flange_tcp, &mut jac);
+    let cur = m.chain.jacobian(q, &m.pose_flange_tcp, &mut jac);
     let mut err = pose_error(target, &cur);
     let mut norm = err.norm();
     for _ in 0..MAX_ITERATIONS {
         if err.fixed_rows::<3>(0).norm() < IK_TOLERANCE && err.fixed_rows::<3>(3).norm() < IK_TOLERANCE {
             return true;
         }
-        let jjt: Matrix6<f64> = &jac * jac.transpose() + Matrix6::identity() * (lambda * lambda);
+        // J Jᵀ + λ²I and Jᵀ y column by column: fixed-size, no allocation per iteration.
+        let mut jjt = Matrix6::identity() * (lambda * lambda);
+        for col in jac.column_iter() {
+            let c: Vector6<f64> = col.fixed_rows::<6>(0).into_owned();
+            jjt += c * c.transpose();
+        }
         let Some(chol) = jjt.cholesky() else { return false };
         let y = chol.solve(&err);
-        let dq = jac.transpose() * y;
         for (k, t) in trial.iter_mut().enumerate() {
-            *t = q[k] + dq[k];
+            *t = q[k] + jac.column(k).dot(&y);
         }
         clamp_into(&m.chain, &mut trial, rot);
-        let next = m.chain.fk_flange(&trial) * m.pose_flange_tcp;
+        // The Jacobian pass computes the pose on the way, with the same arithmetic as
+        // `fk_flange`: most steps are accepted, and then it is needed anyway.
+        let next = m.chain.jacobian(&trial, &m.pose_flange_tcp, &mut jac_trial);
         let next_err = pose_error(target, &next);
         let next_norm = next_err.norm();
         if next_norm < norm {
             q.copy_from_slice(&trial);
             lambda = (lambda * 0.3).max(1e-9);
-            cur = m.chain.jacobian(q, &m.pose_flange_tcp, &mut jac);
-            err = pose_error(target, &cur);
+            std::mem::swap(&mut jac, &mut jac_trial);
+            err = next_err;
             norm = next_norm;
         } else {
             lambda *= 5.0;
@@ -99,24 +127,28 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
     let target = m.pose_world_base.inverse() * pose_world_tcp;
     let rot = rotational(&m.chain);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let attempts = 24 + 12 * max_solutions;
+    // Each start that converges buys more starts, up to the cap: a pose out of reach
+    // costs `FIRST_STARTS` attempts, one with many solutions up to the full budget.
+    const FIRST_STARTS: usize = 24;
+    const STARTS_PER_SOLUTION: usize = 12;
+    let cap = FIRST_STARTS + STARTS_PER_SOLUTION * max_solutions;
+    let mut converged = 0;
     let mut q = vec![0.0; m.chain.dof()];
     let dof = q.len();
-    for attempt in 0..attempts {
+    for attempt in 0..cap {
+        if attempt >= FIRST_STARTS + STARTS_PER_SOLUTION * converged {
+            break;
+        }
         for (k, v) in q.iter_mut().enumerate() {
             let (lo, hi) = m.chain.limits[k];
             // First start: the home configuration, a natural posture.
-            *v = if attempt == 0 && m.home.len() == dof {
-                m.home[k]
-            } else if hi > lo {
-                rng.random_range(lo..hi)
-            } else {
-                lo
-            };
+            *v =
+                if attempt == 0 && m.home.len() == dof { m.home[k] } else { super::chain::sample_in(&mut rng, lo, hi) };
         }
         if !refine(m, &target, &mut q, &rot) {
             continue;
         }
+        converged += 1;
         if out.iter().all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > DISTINCT)) {
             out.push(Config(q.clone()));
             if out.len() >= max_solutions {
@@ -133,4 +165,40 @@ pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -
     let rot = rotational(&m.chain);
     let mut q = start.to_vec();
     refine(m, &target, &mut q, &rot).then_some(Config(q))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn wrapping_by_whole_turns_matches_the_loop_and_ends_on_huge_values() {
+        use std::f64::consts::TAU;
+        let looped = |mut v: f64, lo: f64, hi: f64| {
+            while v > hi && v - TAU >= lo {
+                v -= TAU;
+            }
+            while v < lo && v + TAU <= hi {
+                v += TAU;
+            }
+            v.clamp(lo, hi)
+        };
+        let computed = |v: f64, lo: f64, hi: f64| {
+            let mut q = [v];
+            super::clamp_limits(&[(lo, hi)], &mut q, &[true]);
+            q[0]
+        };
+        for (v, lo, hi) in [
+            (7.0, -3.0, 3.0),
+            (-20.0, -3.0, 3.0),
+            (3.5, -1.0, 1.0),
+            (0.5, -1.0, 1.0),
+            (40.0, -6.5, 6.5),
+            (1000.0, -6.5, 6.5),
+            (-1000.0, -3.0, 3.0),
+            (999.0, -0.1, 0.1),
+        ] {
+            // (Equal up to the rounding the loop accumulates over many turns.)
+            assert!((looped(v, lo, hi) - computed(v, lo, hi)).abs() < 1e-9, "{v} [{lo}, {hi}]");
+        }
+        assert!(computed(1e300, -TAU, TAU).is_finite());
+    }
 }

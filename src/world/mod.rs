@@ -63,8 +63,8 @@ impl World {
     pub fn joint_names(&self, r: RobotId) -> &[String] {
         &self.robots[r.index()].chain.joint_names
     }
-    /// (lower, upper) per actuated joint. Continuous joints (and revolute joints
-    /// without finite limits) get (-2π, 2π).
+    /// (lower, upper) per actuated joint. Continuous joints get (-2π, 2π); revolute and
+    /// prismatic joints must declare finite limits in the URDF (checked at load).
     pub fn limits(&self, r: RobotId) -> &[(f64, f64)] {
         &self.robots[r.index()].chain.limits
     }
@@ -81,18 +81,25 @@ impl World {
         &c.links[c.flange].name
     }
     /// Flange pose in the world frame.
+    ///
+    /// # Panics
+    /// If `q.len()` is not [`World::dof`] (as every method taking a configuration):
+    /// configurations come from the world itself (home, limits, IK), so a wrong length
+    /// is a bug in the caller, never something a scenario or URDF can cause.
     pub fn fk_flange(&self, r: RobotId, q: &[f64]) -> Pose {
-        let m = &self.robots[r.index()];
+        let m = self.robot_for(r, q);
         m.pose_world_base * m.chain.fk_flange(q)
     }
     /// TCP pose in the world frame (the flange when the robot has no hand).
+    /// Panics if `q.len()` is not [`World::dof`].
     pub fn fk_tcp(&self, r: RobotId, q: &[f64]) -> Pose {
-        let m = &self.robots[r.index()];
+        let m = self.robot_for(r, q);
         m.pose_world_base * m.chain.fk_flange(q) * m.pose_flange_tcp
     }
     /// World poses of every link of the robot (URDF link names), for drawing and tests.
+    /// Panics if `q.len()` is not [`World::dof`].
     pub fn fk_links(&self, r: RobotId, q: &[f64]) -> Vec<(String, Pose)> {
-        let m = &self.robots[r.index()];
+        let m = self.robot_for(r, q);
         let mut out = vec![Pose::identity(); m.chain.links.len()];
         m.chain.fk_into(q, &mut out);
         m.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), m.pose_world_base * p)).collect()
@@ -104,31 +111,57 @@ impl World {
         m.self_pairs.iter().map(|&(a, b)| (m.bodies[a].name.as_str(), m.bodies[b].name.as_str())).collect()
     }
     /// Up to `max_solutions` distinct in-limit configurations putting the TCP at
-    /// `pose_world_tcp`, deterministic for a given `seed`.
+    /// `pose_world_tcp`, deterministic for a given `seed`. Takes no configuration, so
+    /// it cannot panic on one; a non-finite pose simply has no solution.
     pub fn ik(&self, r: RobotId, pose_world_tcp: &Pose, seed: u64, max_solutions: usize) -> Vec<Config> {
         ik::solve(&self.robots[r.index()], pose_world_tcp, seed, max_solutions)
+    }
+    /// The robot's model, after checking that `q` fits it (see [`World::fk_flange`]).
+    fn robot_for(&self, r: RobotId, q: &[f64]) -> &build::RobotModel {
+        let m = &self.robots[r.index()];
+        check::assert_dof(m, q);
+        m
     }
     /// The paper's `selectGrasps` for one robot and object.
     pub fn select_grasps(&self, r: RobotId, o: ObjectId) -> Vec<GraspConfig> {
         grasps::select(self, r, o)
     }
     /// The object as carried after grasping it at `q_grasp`.
+    /// Panics if `q_grasp.len()` is not [`World::dof`].
     pub fn held(&self, r: RobotId, o: ObjectId, q_grasp: &[f64]) -> Held {
         let pose_world_flange = self.fk_flange(r, q_grasp);
         let pose_world_object = self.scenario.object(o).body.pose_world_body;
         Held { object: o, pose_flange_object: pose_world_flange.inverse() * pose_world_object }
     }
-    /// The labelled check of one configuration.
+    /// The labelled check of one configuration. Panics if `q.len()` is not
+    /// [`World::dof`]; a value outside the limits is `Blocked(JointLimit)`, not a panic.
     pub fn check(&self, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
         check::check(self, r, q, ctx)
     }
     /// Checks the straight joint-space segment `a`..`b`, no joint moving more than
     /// `step` between checked configurations, both ends included: the union of the
-    /// labels, or the first block.
+    /// labels, or the first block. Panics if `a` or `b` is not [`World::dof`] long.
     pub fn check_segment(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
         check::check_segment(self, r, a, b, step, ctx)
     }
+    /// What the carried object (`ctx.held`) adds to [`World::check_segment`] on the same
+    /// samples: the robot's own bodies are not checked. The full label is this one's
+    /// union with the empty-hand label of the segment, less the carried object.
+    pub fn check_segment_held(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+        check::check_segment_held(self, r, a, b, step, ctx)
+    }
+    /// The check that certifies a motion, for the verifier and the planner alike: the
+    /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every
+    /// sample of the coarse check is among them. Panics if `a` or `b` is not
+    /// [`World::dof`] long.
+    pub fn check_motion(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
+        check::check_subdivided(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
+    }
 }
+
+/// Samples per planner step when a motion is certified (the verifier's "quarter of the
+/// resolution").
+pub const CERTIFY_PARTS: usize = 4;
 
 /// A robot configuration: one value per actuated joint, in chain order (radians or metres).
 #[derive(Clone, Debug, PartialEq, Serialize, Default)]

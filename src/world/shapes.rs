@@ -8,8 +8,9 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{Cuboid, Shape, SharedShape};
 
 use crate::diag::Loader;
 
@@ -31,12 +32,68 @@ pub(crate) struct Placed {
     /// The shape eroded by the contact tolerance, for primitives: two shapes overlap
     /// deeper than the tolerance exactly when the eroded one meets the other.
     pub eroded: Option<SharedShape>,
+    /// Bounding boxes of the shape and of its eroded form, for the pre-test.
+    pub obb: Obb,
+    pub eroded_obb: Option<Obb>,
 }
 
 impl Placed {
     pub fn new(shape: SharedShape, pose: PPose) -> Placed {
         let eroded = erode(&shape, super::check::CONTACT_TOLERANCE);
-        Placed { shape, pose, eroded }
+        let obb = Obb::of(&*shape.0);
+        let eroded_obb = eroded.as_ref().map(|e| Obb::of(&*e.0));
+        Placed { shape, pose, eroded, obb, eroded_obb }
+    }
+}
+
+/// The world-aligned box of a placed shape. parry bounds a cylinder with six support
+/// queries; the closed form (an axis `a`: `h |a_i| + r sqrt(1 - a_i^2)` per axis) costs
+/// a tenth, and cylinders (cans, hands, links) are in almost every check.
+#[inline]
+pub(crate) fn aabb_of(s: &dyn Shape, pose: &PPose) -> Aabb {
+    if let Some(c) = s.as_cylinder() {
+        // parry's cylinders run along their local y.
+        let a = pose.rotation * PVec::Y;
+        let e = |x: f64| c.half_height * x.abs() + c.radius * (1.0 - x * x).max(0.0).sqrt();
+        let half = PVec::new(e(a.x), e(a.y), e(a.z));
+        return Aabb::new(pose.translation - half, pose.translation + half);
+    }
+    s.compute_aabb(pose)
+}
+
+/// A shape's local bounding box as a cuboid about its centre. Two shapes whose boxes
+/// are apart (a separating-axis test, a tenth of a GJK query) cannot touch: this rules
+/// out most pairs whose world-aligned boxes overlap before GJK runs.
+#[derive(Clone, Debug)]
+pub(crate) struct Obb {
+    pub cuboid: Cuboid,
+    pub centre: PPose,
+    /// The shape is this cuboid: the pre-test would be the test itself.
+    pub exact: bool,
+}
+
+impl Obb {
+    pub fn of(s: &dyn Shape) -> Obb {
+        let aabb = s.compute_local_aabb();
+        Obb {
+            cuboid: Cuboid::new(aabb.half_extents()),
+            centre: PPose::from_translation(aabb.center()),
+            exact: s.as_cuboid().is_some(),
+        }
+    }
+
+    /// False only when the boxes, placed at `p1` and `p2`, are apart.
+    #[inline]
+    pub fn may_touch(&self, p1: &PPose, other: &Obb, p2: &PPose) -> bool {
+        if self.exact && other.exact {
+            return true;
+        }
+        // The face normals of both boxes only: the edge-edge axes cost more than they
+        // rule out, and leaving them out keeps the test conservative.
+        use parry3d_f64::query::sat::cuboid_cuboid_find_local_separating_normal_oneway as face_sep;
+        let pos12 = (*p1 * self.centre).inv_mul(&(*p2 * other.centre));
+        face_sep(&self.cuboid, &other.cuboid, &pos12).0 <= 0.0
+            && face_sep(&other.cuboid, &self.cuboid, &pos12.inverse()).0 <= 0.0
     }
 }
 
@@ -108,7 +165,14 @@ impl<'l> MeshCache<'l> {
         if let Some(s) = self.cache.get(&key) {
             return Ok(s.clone());
         }
-        let bytes = self.loader.read_bytes(path).map_err(|e| e.to_string())?;
+        let mut bytes = self.loader.read_bytes(path).map_err(|e| e.to_string())?;
+        let is_dae = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dae"));
+        let mut unit = 1.0;
+        if is_dae {
+            if let Some((u, fixed)) = collada_unit(&bytes)? {
+                (unit, bytes) = (u, fixed);
+            }
+        }
         let loader = self.loader;
         // Material files of OBJ meshes are optional for collision: a missing one reads as empty.
         let reader = |p: &Path| Ok(loader.read_bytes(p).unwrap_or_default());
@@ -123,30 +187,77 @@ impl<'l> MeshCache<'l> {
             vertices.extend(
                 m.vertices
                     .iter()
-                    .map(|v| PVec::new(v[0] as f64 * scale.x, v[1] as f64 * scale.y, v[2] as f64 * scale.z)),
+                    .map(|v| PVec::new(v[0] as f64, v[1] as f64, v[2] as f64) * unit)
+                    .map(|v| PVec::new(v.x * scale.x, v.y * scale.y, v.z * scale.z)),
             );
-            indices.extend(m.faces.iter().map(|f| [f[0] + base, f[1] + base, f[2] + base]));
+            // A face naming a missing vertex would make parry index out of bounds.
+            let count = m.vertices.len() as u64;
+            if m.faces.iter().flatten().any(|&i| u64::from(i) >= count) {
+                return Err("a face refers to a vertex the mesh does not have".into());
+            }
+            indices.extend(m.faces.iter().map(|f| f.map(|i| i.wrapping_add(base))));
+        }
+        if vertices.len() > u32::MAX as usize {
+            return Err("the mesh has too many vertices".into());
         }
         if vertices.len() < 4 || vertices.iter().any(|v| !v.is_finite()) {
             return Err("the mesh has fewer than 4 vertices or non-finite coordinates".into());
         }
-        let shape = match self.mode {
+        let mode = self.mode;
+        let make = move || match mode {
             MeshMode::ConvexHull => SharedShape::convex_hull(&vertices)
-                .ok_or_else(|| "its convex hull is degenerate (flat or empty)".to_string())?,
+                .ok_or_else(|| "its convex hull is degenerate (flat or empty)".to_string()),
             MeshMode::TriMesh => {
                 if indices.is_empty() {
                     return Err("the mesh has no triangles".into());
                 }
-                SharedShape::trimesh(vertices, indices).map_err(|e| format!("{e:?}"))?
+                SharedShape::trimesh(vertices, indices).map_err(|e| format!("{e:?}"))
             }
         };
+        // parry's hull still has internal assertions that some near-degenerate point
+        // clouds trip; a user's mesh must give an error, not a crash.
+        let shape = std::panic::catch_unwind(make)
+            .map_err(|_| "parry could not build a shape from it (degenerate geometry)".to_string())??;
         self.cache.insert(key, shape.clone());
         Ok(shape)
     }
 }
 
+/// A COLLADA file's `<unit meter="..">` when it is not 1, and the file with it set to 1.
+///
+/// mesh-loader scales the vertices by the unit but not the nodes' translations (checked
+/// by a test), so a millimetre file with offset nodes would land 1000× too far. Loading
+/// it in its own units and scaling the result is exact: a uniform scale commutes with
+/// the nodes' rigid transforms. The first `<unit>` is the document's: `<asset>` must be
+/// the first child of `<COLLADA>`.
+fn collada_unit(bytes: &[u8]) -> Result<Option<(f64, Vec<u8>)>, String> {
+    let Ok(text) = std::str::from_utf8(bytes) else { return Ok(None) };
+    let Some(start) = text.find("<unit") else { return Ok(None) };
+    let tag_end = text[start..].find('>').map_or(text.len(), |e| start + e);
+    let tag = &text[start..tag_end];
+    let Some(attr) = tag.find("meter=") else { return Ok(None) };
+    let value_start = start + attr + "meter=".len() + 1;
+    let Some(quote) = text[value_start - 1..].chars().next().filter(|c| *c == '"' || *c == '\'') else {
+        return Ok(None);
+    };
+    let Some(len) = text[value_start..tag_end].find(quote) else { return Ok(None) };
+    let raw = &text[value_start..value_start + len];
+    let unit: f64 = raw.trim().parse().map_err(|_| format!("its COLLADA unit meter=\"{raw}\" is not a number"))?;
+    if !(unit > 0.0 && unit <= MAX_UNIT) {
+        return Err(format!("its COLLADA unit meter=\"{raw}\" is not a positive length up to {MAX_UNIT} m"));
+    }
+    if unit == 1.0 {
+        return Ok(None);
+    }
+    let fixed = format!("{}1{}", &text[..value_start], &text[value_start + len..]);
+    Ok(Some((unit, fixed.into_bytes())))
+}
+
+/// Largest COLLADA unit accepted (metres): anything bigger is a broken file.
+const MAX_UNIT: f64 = 1e3;
+
 /// Resolves a URDF mesh URI: `package://NAME/rest`, `file:///abs`, or a path relative to
-/// the URDF's folder. Returns the candidates tried when none exists.
+/// the URDF's folder. Returns the candidates tried when none exists (possibly none).
 pub(crate) fn resolve_uri(
     uri: &str,
     urdf_dir: &Path,
@@ -156,6 +267,10 @@ pub(crate) fn resolve_uri(
     if let Some(rest) = uri.strip_prefix("package://") {
         let (pkg, sub) = rest.split_once('/').unwrap_or((rest, ""));
         let mut tried = Vec::new();
+        // Walk the ancestors of the absolute folder: a relative one (scenario given by a
+        // relative path) would stop the walk at the current directory.
+        let start = if urdf_dir.as_os_str().is_empty() { Path::new(".") } else { urdf_dir };
+        let urdf_dir = std::path::absolute(start).unwrap_or_else(|_| urdf_dir.to_path_buf());
         for dir in urdf_dir.ancestors().chain(package_path.iter().map(PathBuf::as_path)) {
             if dir.as_os_str().is_empty() {
                 continue;
@@ -186,9 +301,33 @@ pub(crate) fn resolve_uri(
     }
 }
 
+/// The candidates of [`resolve_uri`] for an error message.
+pub(crate) fn describe_tried(tried: &[PathBuf]) -> String {
+    if tried.is_empty() {
+        return "no folder to look in: the URDF's folder is unknown and no package path is given".into();
+    }
+    let list: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
+    format!("looked at {}", list.join(", "))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn collada_unit_is_read_and_reset() {
+        let doc = br#"<COLLADA><asset><unit name="mm" meter='0.001'/></asset></COLLADA>"#;
+        let (u, fixed) = collada_unit(doc).expect("ok").expect("a unit");
+        assert_eq!(u, 0.001);
+        assert_eq!(
+            String::from_utf8(fixed).unwrap(),
+            r#"<COLLADA><asset><unit name="mm" meter='1'/></asset></COLLADA>"#
+        );
+        assert_eq!(collada_unit(br#"<asset><unit meter="1"/></asset>"#), Ok(None));
+        assert_eq!(collada_unit(b"<asset/>"), Ok(None));
+        assert!(collada_unit(br#"<unit meter="-2"/>"#).is_err());
+        assert!(collada_unit(br#"<unit meter="NaN"/>"#).is_err());
+    }
 
     #[test]
     fn primitives_are_eroded_meshes_not() {

@@ -14,8 +14,22 @@ use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 pub(crate) enum UrdfProblem {
     Parse(String),
     Empty,
+    /// Unexpanded xacro: `<xacro:...>` elements would be dropped silently.
+    Xacro,
     Structure(String),
+    /// A revolute or prismatic joint's `<limit>` is missing, not finite, or absurd.
+    Limit {
+        joint: String,
+        reason: String,
+    },
 }
+
+/// Largest length (metres) or scale factor accepted anywhere in a URDF: anything
+/// bigger is a typo or a placeholder, and would overflow poses downstream.
+pub(crate) const MAX_LENGTH: f64 = 1e6;
+/// Largest joint limit accepted (radians or metres): beyond it the sampling of
+/// configurations is meaningless; a joint that turns freely is `continuous`.
+pub(crate) const MAX_TRAVEL: f64 = 1e3;
 
 /// How a joint moves its child.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,14 +94,48 @@ impl Model {
     }
 }
 
-pub(crate) fn pose_of(p: &urdf_rs::Pose) -> Isometry3<f64> {
+/// The pose of an `<origin>`, or why it is unusable (`what` names the element).
+pub(crate) fn pose_of(p: &urdf_rs::Pose, what: &str) -> Result<Isometry3<f64>, UrdfProblem> {
     let [x, y, z] = p.xyz.0;
     let [r, pi, ya] = p.rpy.0;
-    Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, ya))
+    // NaN or inf would make every shape's AABB NaN, and a NaN box never intersects
+    // anything: collision would be off for the link without a word.
+    if !(p.xyz.0.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && p.rpy.0.iter().all(|v| v.is_finite())) {
+        return Err(UrdfProblem::Structure(format!(
+            "{what} has an <origin> that is not finite or beyond {MAX_LENGTH} m (xyz {:?}, rpy {:?})",
+            p.xyz.0, p.rpy.0
+        )));
+    }
+    Ok(Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, ya)))
+}
+
+/// Limits of a revolute or prismatic joint: required, finite, ordered and not absurd.
+fn checked_limits(j: &urdf_rs::Joint) -> Result<(f64, f64), UrdfProblem> {
+    let l = &j.limit;
+    let bad = |reason: String| Err(UrdfProblem::Limit { joint: j.name.clone(), reason });
+    // urdf-rs fills an absent <limit> with zeros; a real one has a velocity or effort.
+    if l.lower == 0.0 && l.upper == 0.0 && l.effort == 0.0 && l.velocity == 0.0 {
+        return bad("has no <limit> (the URDF specification requires one for revolute and prismatic joints)".into());
+    }
+    let (lower, upper) = (l.lower, l.upper);
+    if !(lower.is_finite() && upper.is_finite()) {
+        return bad(format!("has limits [{lower:?}, {upper:?}], which are not finite"));
+    }
+    if lower.abs() > MAX_TRAVEL || upper.abs() > MAX_TRAVEL {
+        return bad(format!("has limits [{lower:?}, {upper:?}], beyond ±{MAX_TRAVEL} (rad or m)"));
+    }
+    if lower > upper {
+        return bad(format!("has lower limit {lower:?} above its upper limit {upper:?}"));
+    }
+    Ok((lower, upper))
 }
 
 /// Parses and checks a URDF text.
 pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
+    // Expanded files keep the `xmlns:xacro` declaration, so only elements tell.
+    if text.contains("<xacro:") {
+        return Err(UrdfProblem::Xacro);
+    }
     let robot = urdf_rs::read_from_string(text).map_err(|e| UrdfProblem::Parse(first_line(&e.to_string())))?;
     if robot.links.is_empty() {
         return Err(UrdfProblem::Empty);
@@ -113,20 +161,22 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
                 },
             };
             let ok = match &kind {
-                GeomKind::Box(s) => s.iter().all(|v| v.is_finite() && *v > 0.0),
+                GeomKind::Box(s) => s.iter().all(|&v| v > 0.0 && v <= MAX_LENGTH),
                 GeomKind::Cylinder { radius, length } | GeomKind::Capsule { radius, length } => {
-                    radius.is_finite() && *radius > 0.0 && length.is_finite() && *length >= 0.0
+                    *radius > 0.0 && *radius <= MAX_LENGTH && *length >= 0.0 && *length <= MAX_LENGTH
                 }
-                GeomKind::Sphere(r) => r.is_finite() && *r > 0.0,
-                GeomKind::Mesh { scale, .. } => scale.iter().all(|v| v.is_finite() && *v != 0.0),
+                GeomKind::Sphere(r) => *r > 0.0 && *r <= MAX_LENGTH,
+                GeomKind::Mesh { scale, .. } => scale.iter().all(|v| v.abs() <= MAX_LENGTH && *v != 0.0),
             };
+            // (The comparisons are false for NaN, and the bounds exclude infinities.)
             if !ok {
                 return Err(UrdfProblem::Structure(format!(
-                    "link `{}` has a collision shape with a zero, negative or non-finite size",
+                    "link `{}` has a collision shape with a zero, negative, non-finite or absurd (over {MAX_LENGTH}) size or scale",
                     l.name
                 )));
             }
-            collisions.push(Geom { pose_link_geom: pose_of(&c.origin), kind });
+            let pose_link_geom = pose_of(&c.origin, &format!("a collision of link `{}`", l.name))?;
+            collisions.push(Geom { pose_link_geom, kind });
         }
         links.push(ModelLink { name: l.name.clone(), parent_joint: None, child_joints: Vec::new(), collisions });
     }
@@ -144,9 +194,12 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
         let (parent, child) = (find(&j.parent.link)?, find(&j.child.link)?);
         let axis = || {
             let a = Vector3::from(j.axis.xyz.0);
-            Unit::try_new(a, 1e-12)
-                .filter(|_| a.iter().all(|v| v.is_finite()))
-                .ok_or_else(|| UrdfProblem::Structure(format!("joint `{}` has a zero axis", j.name)))
+            Unit::try_new(a, 1e-12).filter(|_| a.iter().all(|v| v.abs() <= MAX_LENGTH)).ok_or_else(|| {
+                UrdfProblem::Structure(format!(
+                    "joint `{}` has a zero, non-finite or absurd axis {:?}",
+                    j.name, a.data.0[0]
+                ))
+            })
         };
         let (motion, continuous) = match j.joint_type {
             urdf_rs::JointType::Fixed => (Motion::Fixed, false),
@@ -161,33 +214,31 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
                 )))
             }
         };
-        let (mut lower, mut upper) = (j.limit.lower, j.limit.upper);
-        match motion {
-            Motion::Rotate(_) if continuous || !(lower.is_finite() && upper.is_finite()) => {
-                (lower, upper) = (-2.0 * std::f64::consts::PI, 2.0 * std::f64::consts::PI)
-            }
-            Motion::Slide(_) if !(lower.is_finite() && upper.is_finite()) => {
-                return Err(UrdfProblem::Structure(format!("prismatic joint `{}` has no finite limits", j.name)))
-            }
-            _ => {}
-        }
-        if lower > upper {
-            return Err(UrdfProblem::Structure(format!(
-                "joint `{}` has lower limit {lower} above its upper limit {upper}",
-                j.name
-            )));
-        }
+        let (lower, upper) = match motion {
+            Motion::Rotate(_) if continuous => (-2.0 * std::f64::consts::PI, 2.0 * std::f64::consts::PI),
+            Motion::Rotate(_) | Motion::Slide(_) => checked_limits(j)?,
+            // A fixed joint's limits are never read.
+            Motion::Fixed => (0.0, 0.0),
+        };
         if links[child].parent_joint.is_some() {
             return Err(UrdfProblem::Structure(format!("link `{}` is the child of two joints", j.child.link)));
         }
         links[child].parent_joint = Some(joints.len());
         links[parent].child_joints.push(joints.len());
         let mimic = j.mimic.as_ref().map(|m| (m.joint.clone(), m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0)));
+        if let Some((_, mult, offset)) = &mimic {
+            if !(mult.abs() <= MAX_TRAVEL && offset.abs() <= MAX_TRAVEL) {
+                return Err(UrdfProblem::Structure(format!(
+                    "joint `{}` has a mimic multiplier {mult:?} or offset {offset:?} that is not finite or beyond ±{MAX_TRAVEL}",
+                    j.name
+                )));
+            }
+        }
         joints.push(ModelJoint {
             name: j.name.clone(),
             motion,
             continuous,
-            pose_parent_joint: pose_of(&j.origin),
+            pose_parent_joint: pose_of(&j.origin, &format!("joint `{}`", j.name))?,
             parent,
             child,
             lower,

@@ -32,7 +32,7 @@ pub fn robot(name: &str, urdf: impl AsRef<Path>, home: Vec<f64>, hand: Option<Ha
         pose_world_base: Pose::identity(),
         hand,
         flange: None,
-        home: JointValues { values: home, span: sp(30, 40) },
+        home: JointValues { values: home, span: sp(30, 40), units: Vec::new() },
         drop: None,
         allow_contact: Vec::new(),
     }
@@ -110,4 +110,38 @@ pub fn shared_robots() -> Option<PathBuf> {
         eprintln!("skipped: {} is absent (the shared robot files are not in this checkout)", p.display());
         None
     }
+}
+
+/// A COLLADA tetrahedron with legs `side` long along x, y and z, in units of `meter`
+/// metres, its node translated by `dx` units along x.
+pub fn dae_tetrahedron(meter: &str, side: &str, dx: &str) -> String {
+    format!(
+        r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="u" meter="{meter}"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tet" name="tet">
+      <mesh>
+        <source id="tet-pos">
+          <float_array id="tet-pos-array" count="12">0 0 0 {side} 0 0 0 {side} 0 0 0 {side}</float_array>
+          <technique_common>
+            <accessor source="#tet-pos-array" count="4" stride="3">
+              <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+            </accessor>
+          </technique_common>
+        </source>
+        <vertices id="tet-vtx"><input semantic="POSITION" source="#tet-pos"/></vertices>
+        <triangles count="4">
+          <input semantic="VERTEX" source="#tet-vtx" offset="0"/>
+          <p>0 2 1 0 1 3 0 3 2 1 2 3</p>
+        </triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="s"><node id="n"><translate>{dx} 0 0</translate><instance_geometry url="#tet"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"##
+    )
 }
