@@ -18,7 +18,10 @@ fn path_is_free(w: &Planar, path: &JointPath, removed: &ObjectSet, held: Option<
     let mut c = 0;
     path.0
         .windows(2)
-        .all(|s| w.check_segment(&s[0], &s[1], PlannerSettings::default().resolution, &mode, &mut c) == Check::free())
+        // Four times finer than the planner's certifying check (a quarter of the resolution).
+        .all(|s| {
+            w.check_segment(&s[0], &s[1], PlannerSettings::default().resolution / 16.0, &mode, &mut c) == Check::free()
+        })
         && path.0.iter().all(|q| w.check(q, &mode, &mut c) == Check::free())
 }
 
@@ -62,6 +65,7 @@ fn grasp_queries_label_the_whole_motion() {
     let p = RobotPlanner::new(w.clone(), &PlannerSettings::default(), &PrmOptions::default(), 0);
     let lid = p.query(&Goal::Grasp(ObjectId(1)));
     let found = lid.result.clone().expect("lid reachable");
+    assert_eq!(lid.stats.reused_vertices, 0, "a fresh roadmap reuses nothing");
     assert_eq!(found.removals, ObjectSet::new(), "{:?}", lid.stats);
     assert_eq!(found.grasp, Some(0));
     // Up to the pre-grasp the path touches nothing; the last step is the approach, where the lid is ignored.
@@ -126,7 +130,8 @@ fn fewest_removals_matches_grid_brute_force() {
             (brute, size(&mcr), size(&fv), ok)
         })
         .collect();
-    let mut good = 0;
+    let (mut good, mut needing, mut good_needing, mut no_path) = (0, 0, 0, 0);
+    let mut histogram = [0usize; 11];
     let (mut worse, mut extra, mut both) = (0, 0, 0);
     for (i, (brute, mcr, fv, ok)) in rows.iter().enumerate() {
         assert!(ok, "world {i}: a returned path does not re-check clean");
@@ -135,6 +140,14 @@ fn fewest_removals_matches_grid_brute_force() {
             (None, _) => true,
             (Some(_), None) => false,
         };
+        match brute {
+            Some(b) => histogram[(*b).min(10)] += 1,
+            None => no_path += 1,
+        }
+        if brute.is_some_and(|b| b > 0) {
+            needing += 1;
+            good_needing += usize::from(fine);
+        }
         if fine {
             good += 1;
         } else {
@@ -148,12 +161,18 @@ fn fewest_removals_matches_grid_brute_force() {
             }
         }
     }
-    eprintln!("fewest_removals <= grid minimum in {good}/100 worlds");
+    eprintln!("grid minimum removals, worlds per size 0..=10: {histogram:?}; no path at all: {no_path}");
+    eprintln!(
+        "fewest_removals <= grid minimum in {good}/100 worlds, {good_needing}/{needing} of those needing removals"
+    );
     eprintln!(
         "fewest_vertices removes more than fewest_removals in {worse}/{both} worlds, {extra} extra objects in total ({:.2} per such world)",
         if worse > 0 { extra as f64 / worse as f64 } else { 0.0 }
     );
     assert!(good >= 95, "only {good}/100");
+    // The check must not be vacuous: most worlds need removals, and so does the pass rate.
+    assert!(needing >= 50, "only {needing} worlds need a removal");
+    assert!(good_needing * 100 >= 95 * needing, "only {good_needing}/{needing} of the worlds needing removals");
 }
 
 #[test]
@@ -182,4 +201,36 @@ fn identical_answers_with_1_2_and_4_threads() {
     let one = run(1);
     assert_eq!(one, run(2));
     assert_eq!(one, run(4));
+}
+
+#[test]
+fn stop_rules_first_path_max_samples_time_budget_and_patience() {
+    // A world whose target needs a removal, so the default rule grows to max_samples.
+    let (w, goal) = (0..50u64)
+        .map(|s| random_world(s, 32))
+        .find(|(w, g)| {
+            let st = PlannerSettings { max_samples: 400, ..PlannerSettings::default() };
+            let p = RobotPlanner::new(w.clone(), &st, &PrmOptions::default(), 0);
+            p.query(&Goal::Reach(g.clone().into())).result.is_ok_and(|f| !f.removals.is_empty())
+        })
+        .expect("a world needing removals");
+    let goal = Goal::Reach(goal.into());
+    let capped = PlannerSettings { max_samples: 400, ..PlannerSettings::default() };
+    let a = RobotPlanner::new(w.clone(), &capped, &PrmOptions::default(), 0).query(&goal);
+    assert_eq!(a.stats.samples, 400, "grows to max_samples while a free path may appear");
+    let first = PlannerSettings { first_path: true, ..capped.clone() };
+    let b = RobotPlanner::new(w.clone(), &first, &PrmOptions::default(), 0).query(&goal);
+    assert!(b.result.is_ok());
+    assert!(b.stats.samples < 400, "first_path stops early: {:?}", b.stats);
+    let patient = PrmOptions { patience: Some(1), ..PrmOptions::default() };
+    let c = RobotPlanner::new(w.clone(), &capped, &patient, 0).query(&goal);
+    assert!(c.stats.samples <= a.stats.samples);
+    assert!(c.result.unwrap().removals.len() >= a.result.unwrap().removals.len());
+    // A spent time budget ends the query after the round in progress.
+    let hurried = PlannerSettings { time_budget: Some(1e-9), ..capped.clone() };
+    let e = RobotPlanner::new(w.clone(), &hurried, &PrmOptions::default(), 0).query(&goal);
+    assert!(e.stats.samples < a.stats.samples && e.stats.samples <= 32, "stops after one round: {:?}", e.stats);
+    let none = PlannerSettings { max_samples: 0, ..capped };
+    let d = RobotPlanner::new(w, &none, &PrmOptions::default(), 0).query(&goal);
+    assert_eq!(d.stats.samples, 0);
 }

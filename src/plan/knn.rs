@@ -42,13 +42,13 @@ impl KdTree {
         &self.pts[s..s + self.dim]
     }
 
-    fn search(
+    fn search<F: Fn(u32) -> bool>(
         &self,
         idx: &[u32],
         depth: usize,
         q: &[f64],
         k: usize,
-        skip: &dyn Fn(u32) -> bool,
+        skip: &F,
         best: &mut Vec<(f64, u32)>,
     ) {
         if idx.is_empty() {
@@ -58,7 +58,10 @@ impl KdTree {
         let i = idx[mid];
         let p = self.point(i);
         if !skip(i) {
-            insert(best, k, (dist2(p, q), i));
+            let d = dist2(p, q);
+            if best.len() < k || d <= best[best.len() - 1].0 {
+                insert(best, k, (d, i));
+            }
         }
         let axis = depth % self.dim;
         let diff = q[axis] - p[axis];

@@ -4,8 +4,15 @@
 //! first?" ([`Answer`]); the graph side combines those answers across robots and
 //! objects into an assignment of remove-actions. The two meet only through
 //! [`Oracle`], so the graph logic can be tested on hand-built answers.
+//!
+//! Roadmap side: [`Planner`] holds one [`RobotPlanner`] per robot of a `World` and
+//! implements [`Oracle`]; `Planner::find_path_with` picks the objective per query so
+//! `fewest_removals` and the paper's `fewest_vertices` can be compared on one roadmap.
+//! [`RobotPlanner`] works over any [`Space`] (a robot of a `World` via [`RobotSpace`],
+//! or exact test geometry).
 
 mod knn;
+mod layers;
 mod planner;
 mod prm;
 mod roadmap;
@@ -39,6 +46,9 @@ pub enum Unreachable {
     /// No grasp of the object has an inverse-kinematics solution for this robot
     /// (or every solution collides with a fixed body).
     NoGraspSolution,
+    /// Grasp configurations exist, but every straight approach to them, or the retreat
+    /// carrying the object, hits a fixed body.
+    ApproachBlocked,
     /// Grasps are reachable, but no roadmap path reaches any of them without hitting
     /// something fixed, within the sampling budget.
     NoPath,

@@ -44,6 +44,18 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn check_segment_held(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check_segment_held(self.robot, a, b, step, &c);
+        *checks += c.count();
+        out
+    }
+    fn check_segment_fine(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check_motion(self.robot, a, b, resolution, &c);
+        *checks += c.count();
+        out
+    }
     fn home(&self) -> &[f64] {
         self.world.home(self.robot)
     }
@@ -101,5 +113,28 @@ impl<'w> Planner<'w> {
 impl Oracle for Planner<'_> {
     fn find_path(&self, robot: RobotId, goal: &Goal) -> Answer {
         self.find_path_with(robot, goal, self.settings.objective)
+    }
+
+    /// Robots in parallel, each robot's queries in the given order: robots share no
+    /// roadmap, so the answers are those of the sequential order whatever the threads.
+    fn find_paths(&self, queries: &[(RobotId, Goal)]) -> Vec<Answer> {
+        use rayon::prelude::*;
+        let mut robots: Vec<RobotId> = queries.iter().map(|q| q.0).collect();
+        robots.sort_unstable_by_key(|r| r.0);
+        robots.dedup();
+        let per_robot: Vec<Vec<(usize, Answer)>> = robots
+            .par_iter()
+            .map(|&r| {
+                queries
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, q)| q.0 == r)
+                    .map(|(i, (robot, goal))| (i, self.find_path(*robot, goal)))
+                    .collect()
+            })
+            .collect();
+        let mut answers: Vec<(usize, Answer)> = per_robot.into_iter().flatten().collect();
+        answers.sort_unstable_by_key(|a| a.0);
+        answers.into_iter().map(|a| a.1).collect()
     }
 }

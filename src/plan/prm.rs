@@ -20,13 +20,15 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::knn::dist2;
+use super::layers::{
+    build, exact_set, job, lookup, node_q, store, Built, GoalNode, GraspGoal, Item, Job, ModeKey, Node, State,
+};
 use super::roadmap::{mix, Roadmap};
-use super::search::{fewest_removals, fewest_vertices, mask, Found, Graph, Lab};
+use super::search::{fewest_removals, fewest_vertices, Found};
 use super::space::{Mode, Space};
 use super::{Answer, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
-use crate::world::{Check, Config, GraspConfig, Held, JointPath, ObjectSet};
+use crate::world::{Check, Config, GraspConfig, JointPath, ObjectSet};
 
 /// Tuning beyond [`PlannerSettings`].
 #[derive(Clone, Debug, PartialEq)]
@@ -44,108 +46,6 @@ impl Default for PrmOptions {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-enum Node {
-    Map(u32),
-    Goal(u32),
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-enum ModeKey {
-    Empty,
-    /// Carrying the object after the `.1`-th configuration `selectGrasps` returned.
-    Carry(ObjectId, u32),
-}
-
-/// Anything that gets a label.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-enum Item {
-    Vertex(ModeKey, Node),
-    /// Nodes in increasing order.
-    Edge(ModeKey, Node, Node),
-    /// Pre-grasp -> grasp with the object absent, then back carrying it.
-    Approach(ObjectId, u32),
-}
-
-struct GoalNode {
-    q: Vec<f64>,
-    /// Cumulative neighbours at round r (index r).
-    nbrs: Vec<Vec<u32>>,
-}
-
-type Carried = (Held, Vec<f64>, Vec<f64>);
-
-struct State {
-    map: Roadmap,
-    goals: Vec<GoalNode>,
-    goal_ids: HashMap<Vec<u64>, u32>,
-    /// Empty-hand labels of roadmap edges, by edge index (`None`: not checked yet).
-    map_edges: Vec<Option<Option<ObjectSet>>>,
-    labels: HashMap<Item, Option<ObjectSet>>,
-    /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
-    helds: HashMap<(ObjectId, u32), Carried>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Rule {
-    Plain,
-    /// Labels containing the object block (it cannot be removed to reach itself).
-    Forbid(ObjectId),
-    /// The object is gone from the scene.
-    Strip(ObjectId),
-}
-
-impl Rule {
-    fn known(self, l: Option<&ObjectSet>) -> Lab {
-        self.apply(l, false)
-    }
-    fn bound(self, l: Option<&ObjectSet>) -> Lab {
-        self.apply(l, true)
-    }
-    fn apply(self, l: Option<&ObjectSet>, unknown: bool) -> Lab {
-        let Some(s) = l else { return Lab::Blocked };
-        let s = match self {
-            Rule::Plain => mask(s),
-            Rule::Forbid(o) if s.contains(o) => return Lab::Blocked,
-            Rule::Forbid(_) => mask(s),
-            Rule::Strip(o) => mask(s) & !(1 << o.index().min(127)),
-        };
-        if unknown {
-            Lab::Unknown(s)
-        } else {
-            Lab::Known(s)
-        }
-    }
-}
-
-/// A layered search graph for one goal at one round, with the key of every element.
-struct Built {
-    g: Graph,
-    vkey: Vec<Item>,
-    vrule: Vec<Rule>,
-    /// `None` for elements whose label was final at build time.
-    ekey: Vec<Option<Item>>,
-    erule: Vec<Rule>,
-    /// Layer of each vertex and its node.
-    vnode: Vec<(u8, Node)>,
-    /// Labels of the transition edges (which have no key).
-    fixed: HashMap<u32, ObjectSet>,
-    start: u32,
-    goal: u32,
-}
-
-/// A usable grasp: its goal node and the approach/retreat label.
-#[derive(Clone)]
-struct GraspGoal {
-    cfg: GraspConfig,
-    /// Empty-hand label of the pre-grasp.
-    pre_set: ObjectSet,
-    /// Position in the `selectGrasps` answer (the carry mode's key).
-    key: u32,
-    pre: u32,
-    approach: ObjectSet,
-}
-
 /// One candidate answer during a query.
 #[derive(Clone)]
 struct Cand {
@@ -156,16 +56,6 @@ struct Cand {
     set: ObjectSet,
     /// Index into the query's goals (grasps).
     goal: usize,
-}
-
-/// A configuration-level job for the workers.
-struct Job {
-    item: Item,
-    a: Vec<f64>,
-    b: Option<Vec<f64>>,
-    mode: Mode,
-    /// For `Approach`: the grasp configuration, checked pre -> grasp (absent) then back (held).
-    grasp: Option<Vec<f64>>,
 }
 
 /// The PRMwO planner of one robot over a [`Space`].
@@ -209,7 +99,9 @@ impl<S: Space> RobotPlanner<S> {
                 goal_ids: HashMap::new(),
                 map_edges: Vec::new(),
                 labels: HashMap::new(),
+                certified: HashSet::new(),
                 helds: HashMap::new(),
+                grasps: HashMap::new(),
             }
         });
         f(st)
@@ -225,7 +117,11 @@ impl<S: Space> RobotPlanner<S> {
         let t0 = Instant::now();
         let mut stats = QueryStats::default();
         let mut checks = 0u64;
-        stats.reused_vertices = self.lock(|s| s.map.vlab.len() as u64, &mut checks);
+        // Before `lock` builds a fresh roadmap (home alone): a first query reuses nothing.
+        stats.reused_vertices = {
+            let guard = self.state.lock().unwrap_or_else(|p| p.into_inner());
+            guard.as_ref().map_or(0, |s| s.map.vlab.len() as u64)
+        };
         let result = self.run(goal, objective, t0, &mut stats, &mut checks);
         stats.checks = checks;
         stats.time_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -266,13 +162,20 @@ impl<S: Space> RobotPlanner<S> {
                 )
             }
             Goal::Grasp(o) => {
-                let grasps = self.space.grasps(*o);
+                let grasps = match self.lock(|s| s.grasps.get(o).cloned(), checks) {
+                    Some(g) => g,
+                    None => {
+                        let g = self.space.grasps(*o);
+                        self.lock(|s| s.grasps.insert(*o, g.clone()), checks);
+                        g
+                    }
+                };
                 if grasps.is_empty() {
                     return Err(Unreachable::NoGraspSolution);
                 }
                 let goals = self.grasp_goals(*o, grasps, checks);
                 if goals.is_empty() {
-                    return Err(Unreachable::NoGraspSolution);
+                    return Err(Unreachable::ApproachBlocked);
                 }
                 (Some(*o), goals)
             }
@@ -449,8 +352,9 @@ impl<S: Space> RobotPlanner<S> {
                         b: None,
                         mode: Mode { absent: ObjectSet::single(o), held: Some(held) },
                         grasp: Some(cfg.q_grasp.to_vec()),
+                        empty: None,
                     };
-                    let l = self.eval(&job, checks);
+                    let l = self.eval(&job, false, checks);
                     self.lock(|s| s.labels.insert(item, l.clone()), checks);
                     l
                 }
@@ -462,16 +366,42 @@ impl<S: Space> RobotPlanner<S> {
         out
     }
 
-    fn eval(&self, job: &Job, checks: &mut u64) -> Option<ObjectSet> {
-        let step = self.settings.resolution;
-        let c = match (&job.b, &job.grasp) {
-            (_, Some(grasp)) => {
-                let absent = Mode { absent: job.mode.absent.clone(), held: None };
-                self.space
-                    .check_segment(&job.a, grasp, step, &absent, checks)
-                    .and(self.space.check_segment(grasp, &job.a, step, &job.mode, checks))
+    /// Labels one item. Segments, the straight approach included, are checked every
+    /// `resolution` while searching and with the certifying check (`fine`) once on a
+    /// chosen path.
+    fn eval(&self, job: &Job, fine: bool, checks: &mut u64) -> Option<ObjectSet> {
+        let res = self.settings.resolution;
+        let seg = |a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64| {
+            if fine {
+                self.space.check_segment_fine(a, b, res, mode, checks)
+            } else {
+                self.space.check_segment(a, b, res, mode, checks)
             }
-            (Some(b), None) => self.space.check_segment(&job.a, b, step, &job.mode, checks),
+        };
+        let c = match (&job.b, &job.grasp) {
+            // The approach in (object absent, hand empty) and the retreat carrying the
+            // object pass the same samples, and a check carrying an object finds all the
+            // empty hand finds (the robot's own bodies are checked the same way) plus what
+            // the object touches: the retreat alone gives the union.
+            (_, Some(grasp)) => seg(grasp, &job.a, &job.mode, checks),
+            // Carrying, with the empty hand's label of this edge known: the robot's own
+            // bodies meet the same things (less the object, now in the hand), so only the
+            // object needs checking; an edge blocked for the empty hand stays blocked.
+            (Some(b), None) if !fine && job.empty.is_some() => match &job.empty {
+                Some(Some(empty)) => match self.space.check_segment_held(&job.a, b, res, &job.mode, checks) {
+                    Check::Touches(mut l) => {
+                        let mut robot = empty.clone();
+                        for o in job.mode.absent.iter() {
+                            robot.remove(o);
+                        }
+                        l.union_with(&robot);
+                        Check::Touches(l)
+                    }
+                    blocked => blocked,
+                },
+                _ => return None,
+            },
+            (Some(b), None) => seg(&job.a, b, &job.mode, checks),
             (None, None) => self.space.check(&job.a, &job.mode, checks),
         };
         match c {
@@ -496,7 +426,7 @@ impl<S: Space> RobotPlanner<S> {
                 if !s.map.home_ok {
                     return Vec::new();
                 }
-                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop)).collect()
+                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, bound)).collect()
             },
             checks,
         );
@@ -507,13 +437,36 @@ impl<S: Space> RobotPlanner<S> {
             Objective::FewestRemovals => fewest_removals(&b.g, b.start, b.goal, bound),
             Objective::FewestVertices => fewest_vertices(&b.g, b.start, b.goal),
         };
+        // Each goal's answer on its current labels; re-searched only when they change.
+        let mut found: Vec<Option<Found>> = built.par_iter().map(search).collect();
+        let mut dirty = vec![false; built.len()];
         loop {
-            let found: Vec<Option<Found>> = built.par_iter().map(search).collect();
+            let stale: Vec<usize> = (0..built.len()).filter(|&i| dirty[i]).collect();
+            let fresh: Vec<Option<Found>> = stale.par_iter().map(|&i| search(&built[i])).collect();
+            for (i, f) in stale.into_iter().zip(fresh) {
+                found[i] = f;
+                dirty[i] = false;
+            }
+            // Which goals' paths to evaluate. Unknown labels are lower bounds and only grow,
+            // so under `fewest_removals` each goal's (set size, length) can only get worse:
+            // the goal with the smallest key is the only one worth checking, and once its
+            // path is fully known no other goal can beat it. The paper's rule has no such
+            // bound (a blocked edge can make a longer path touch less), so it checks all.
+            let chosen: Vec<usize> = match objective {
+                Objective::FewestRemovals => found
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, f)| f.as_ref().map(|f| ((f.set.count_ones(), Len(f.len), i), i)))
+                    .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
+                    .map(|(_, i)| vec![i])
+                    .unwrap_or_default(),
+                Objective::FewestVertices => (0..built.len()).collect(),
+            };
             // Unknown items on the chosen paths.
             let mut wanted: Vec<Item> = Vec::new();
             let mut seen = HashSet::new();
-            for (b, f) in built.iter().zip(&found) {
-                let Some(f) = f else { continue };
+            for &i in &chosen {
+                let (b, Some(f)) = (&built[i], &found[i]) else { continue };
                 for &v in &f.verts {
                     if !b.g.vlab[v as usize].is_known() && seen.insert(b.vkey[v as usize]) {
                         wanted.push(b.vkey[v as usize]);
@@ -530,14 +483,14 @@ impl<S: Space> RobotPlanner<S> {
             }
             if wanted.is_empty() {
                 let sets: Vec<Option<ObjectSet>> = self.lock(
-                    |s| built.iter().zip(&found).map(|(b, f)| f.as_ref().map(|f| exact_set(s, b, f))).collect(),
+                    |s| chosen.iter().map(|&i| found[i].as_ref().map(|f| exact_set(s, &built[i], f))).collect(),
                     checks,
                 );
                 let mut best: Option<Cand> = None;
-                for (i, (f, set)) in found.into_iter().zip(sets).enumerate() {
-                    let (Some(f), Some(set)) = (f, set) else { continue };
+                for (&i, set) in chosen.iter().zip(sets) {
+                    let (Some(f), Some(set)) = (&found[i], set) else { continue };
                     let nodes = f.verts.iter().map(|&v| built[i].vnode[v as usize]).collect();
-                    let c = Cand { found: f, goal: i, nodes, set };
+                    let c = Cand { found: f.clone(), goal: i, nodes, set };
                     let better = best.as_ref().is_none_or(|b| match objective {
                         Objective::FewestRemovals => key(&c) < key(b),
                         Objective::FewestVertices => vkey(&c) < vkey(b),
@@ -546,7 +499,23 @@ impl<S: Space> RobotPlanner<S> {
                         best = Some(c);
                     }
                 }
-                return best;
+                // Certify the winner's segments with the fine check. Its labels contain the
+                // coarse ones, so the coarse labels were lower bounds: if none changed the
+                // answer stands, else the changed labels go into every graph and we search on.
+                let Some(c) = &best else { return None };
+                let changed = self.certify(&built[c.goal], &c.found, checks);
+                if changed.is_empty() {
+                    return best;
+                }
+                for (b, d) in built.iter_mut().zip(dirty.iter_mut()) {
+                    for e in 0..b.ekey.len() {
+                        if let Some(l) = b.ekey[e].and_then(|k| changed.get(&k)) {
+                            b.g.elab[e] = b.erule[e].known(l.as_ref());
+                            *d = true;
+                        }
+                    }
+                }
+                continue;
             }
             // Look up or prepare jobs under the lock, evaluate without it.
             let (mut known, jobs): (HashMap<Item, Option<ObjectSet>>, Vec<Job>) = self.lock(
@@ -569,7 +538,7 @@ impl<S: Space> RobotPlanner<S> {
                 .par_iter()
                 .map(|j| {
                     let mut c = 0;
-                    let l = self.eval(j, &mut c);
+                    let l = self.eval(j, false, &mut c);
                     (l, c)
                 })
                 .collect();
@@ -585,13 +554,14 @@ impl<S: Space> RobotPlanner<S> {
                 *checks += c;
                 known.insert(j.item, l);
             }
-            for (b, f) in built.iter_mut().zip(&found) {
+            for ((b, f), d) in built.iter_mut().zip(&found).zip(dirty.iter_mut()) {
                 let Some(f) = f else { continue };
                 for &v in &f.verts {
                     let v = v as usize;
                     if let Some(l) = known.get(&b.vkey[v]) {
                         if !b.g.vlab[v].is_known() {
                             b.g.vlab[v] = b.vrule[v].known(l.as_ref());
+                            *d = true;
                         }
                     }
                 }
@@ -600,11 +570,53 @@ impl<S: Space> RobotPlanner<S> {
                     if let Some(l) = b.ekey[e].and_then(|k| known.get(&k)) {
                         if !b.g.elab[e].is_known() {
                             b.g.elab[e] = b.erule[e].known(l.as_ref());
+                            *d = true;
                         }
                     }
                 }
             }
         }
+    }
+
+    /// Re-checks the segments of a path that only have a coarse label with the fine
+    /// check; returns the items whose label changed (now stored).
+    fn certify(&self, b: &Built, f: &Found, checks: &mut u64) -> HashMap<Item, Option<ObjectSet>> {
+        let jobs: Vec<Job> = self.lock(
+            |s| {
+                let mut seen = HashSet::new();
+                f.edges
+                    .iter()
+                    .filter_map(|&e| b.ekey[e as usize])
+                    .filter(|k| {
+                        matches!(k, Item::Edge(..) | Item::Approach(..)) && !s.certified.contains(k) && seen.insert(*k)
+                    })
+                    .map(|k| job(s, k))
+                    .collect()
+            },
+            checks,
+        );
+        let results: Vec<(Option<ObjectSet>, u64)> = jobs
+            .par_iter()
+            .map(|j| {
+                let mut c = 0;
+                (self.eval(j, true, &mut c), c)
+            })
+            .collect();
+        *checks += results.iter().map(|r| r.1).sum::<u64>();
+        self.lock(
+            |s| {
+                let mut changed = HashMap::new();
+                for (j, (l, _)) in jobs.iter().zip(results) {
+                    s.certified.insert(j.item);
+                    if lookup(s, j.item).as_ref() != Some(&l) {
+                        store(s, j.item, l.clone());
+                        changed.insert(j.item, l);
+                    }
+                }
+                changed
+            },
+            checks,
+        )
     }
 
     /// Turns a candidate's layered path into joint paths.
@@ -640,244 +652,5 @@ fn vkey(c: &Cand) -> (usize, usize, Len, usize) {
     (c.set.len(), c.found.verts.len(), Len(c.found.len), c.goal)
 }
 
-/// The exact union of the labels on a fully known path.
-fn exact_set(s: &State, b: &Built, f: &Found) -> ObjectSet {
-    let mut out = ObjectSet::new();
-    let mut add = |l: Option<Option<ObjectSet>>, rule: Rule| {
-        if let Some(Some(mut l)) = l {
-            if let Rule::Strip(o) = rule {
-                l.remove(o);
-            }
-            out.union_with(&l);
-        }
-    };
-    for &v in &f.verts {
-        add(lookup(s, b.vkey[v as usize]), b.vrule[v as usize]);
-    }
-    for &e in &f.edges {
-        match b.ekey[e as usize] {
-            Some(k) => add(lookup(s, k), b.erule[e as usize]),
-            None => add(b.fixed.get(&e).cloned().map(Some), Rule::Plain),
-        }
-    }
-    out
-}
-
 #[derive(Clone, Copy, PartialEq, PartialOrd)]
 struct Len(f64);
-
-fn node_q(s: &State, n: Node) -> &[f64] {
-    match n {
-        Node::Map(v) => s.map.q(v),
-        Node::Goal(g) => &s.goals[g as usize].q,
-    }
-}
-
-/// The stored label of an item, if checked.
-fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
-    match it {
-        Item::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
-        Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
-            let e = map_edge(s, a, b)?;
-            s.map_edges[e].clone()
-        }
-        _ => s.labels.get(&it).cloned(),
-    }
-}
-
-fn store(s: &mut State, it: Item, l: Option<ObjectSet>) {
-    if let Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
-        if let Some(e) = map_edge(s, a, b) {
-            s.map_edges[e] = Some(l);
-            return;
-        }
-    }
-    s.labels.insert(it, l);
-}
-
-fn map_edge(s: &State, a: u32, b: u32) -> Option<usize> {
-    // Roadmap edges are sorted within each round and rounds are appended in order.
-    let pair = (a.min(b), a.max(b));
-    // The round of an edge is the round of its later vertex.
-    let r = s.map.rounds.partition_point(|e| e.verts <= pair.1 as usize);
-    let (from, to) = (s.map.rounds[r - 1].edges, s.map.rounds.get(r)?.edges);
-    s.map.edges[from..to].binary_search(&pair).ok().map(|i| from + i)
-}
-
-fn mode_of(s: &State, m: ModeKey) -> Mode {
-    match m {
-        ModeKey::Empty => Mode::default(),
-        ModeKey::Carry(o, g) => Mode { absent: ObjectSet::single(o), held: Some(s.helds[&(o, g)].0.clone()) },
-    }
-}
-
-fn job(s: &State, it: Item) -> Job {
-    match it {
-        Item::Vertex(m, n) => Job { item: it, a: node_q(s, n).to_vec(), b: None, mode: mode_of(s, m), grasp: None },
-        Item::Edge(m, a, b) => {
-            Job { item: it, a: node_q(s, a).to_vec(), b: Some(node_q(s, b).to_vec()), mode: mode_of(s, m), grasp: None }
-        }
-        Item::Approach(o, g) => {
-            let (held, q_grasp, q_pre) = s.helds[&(o, g)].clone();
-            Job {
-                item: it,
-                a: q_pre,
-                b: None,
-                mode: Mode { absent: ObjectSet::single(o), held: Some(held) },
-                grasp: Some(q_grasp),
-            }
-        }
-    }
-}
-
-/// Cumulative neighbours of a goal node at round `r`.
-fn goal_nbrs(s: &mut State, id: u32, r: usize, k: usize) -> Vec<u32> {
-    let g = &mut s.goals[id as usize];
-    while g.nbrs.len() <= r {
-        let rr = g.nbrs.len();
-        let mut n: Vec<u32> = if rr == 0 { Vec::new() } else { g.nbrs[rr - 1].clone() };
-        n.extend(s.map.trees[rr].nearest(&g.q, k, |_| false).into_iter().map(|(_, i)| i));
-        n.sort_unstable();
-        n.dedup();
-        g.nbrs.push(n);
-    }
-    g.nbrs[r].clone()
-}
-
-fn build(s: &mut State, r: usize, k: usize, object: Option<ObjectId>, goal: &GraspGoal, drop: Option<Node>) -> Built {
-    use ModeKey::{Carry, Empty};
-    let pre = goal.pre;
-    let mut layers: Vec<(ModeKey, Rule, Vec<u32>)> = Vec::new();
-    match object {
-        None => layers.push((Empty, Rule::Plain, vec![pre])),
-        Some(o) => {
-            let carry = Carry(o, goal.key);
-            layers.push((Empty, Rule::Forbid(o), vec![pre]));
-            match drop {
-                Some(Node::Goal(d)) => {
-                    let extras = if d == pre { vec![pre] } else { vec![pre, d] };
-                    layers.push((carry, Rule::Plain, extras));
-                    layers.push((Empty, Rule::Strip(o), vec![d]));
-                }
-                _ => layers.push((carry, Rule::Plain, vec![pre])),
-            }
-        }
-    }
-    let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
-    for (_, _, extras) in &layers {
-        for &x in extras {
-            if let std::collections::hash_map::Entry::Vacant(e) = nbrs.entry(x) {
-                e.insert(goal_nbrs(s, x, r, k));
-            }
-        }
-    }
-    let s = &*s;
-    let n = s.map.rounds[r].verts as u32;
-    let m = s.map.rounds[r].edges;
-    let mut b = Built {
-        g: Graph::default(),
-        vkey: Vec::new(),
-        vrule: Vec::new(),
-        ekey: Vec::new(),
-        erule: Vec::new(),
-        vnode: Vec::new(),
-        fixed: HashMap::new(),
-        start: 0,
-        goal: 0,
-    };
-    let mut offsets = Vec::new();
-    for (li, (mode, rule, extras)) in layers.iter().enumerate() {
-        let (mode, rule) = (*mode, *rule);
-        let off = b.g.vlab.len() as u32;
-        offsets.push(off);
-        let strip = |l: &ObjectSet| {
-            let mut l = l.clone();
-            if let Carry(o, _) = mode {
-                l.remove(o);
-            }
-            l
-        };
-        let nodes = (0..n).map(Node::Map).chain(extras.iter().map(|&x| Node::Goal(x)));
-        for node in nodes {
-            let item = Item::Vertex(mode, node);
-            let lab = match (mode, node) {
-                (Empty, Node::Map(v)) => rule.known(Some(&s.map.vlab[v as usize])),
-                _ => match lookup(s, item) {
-                    Some(l) => rule.known(l.as_ref()),
-                    None => {
-                        // Carrying: the arm's own contacts stay, the object's are unknown.
-                        let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
-                        match empty {
-                            Some(l) => rule.bound(Some(&strip(&l))),
-                            None => Lab::Unknown(0),
-                        }
-                    }
-                },
-            };
-            b.g.add_vertex(lab);
-            b.vkey.push(item);
-            b.vrule.push(rule);
-            b.vnode.push((li as u8, node));
-        }
-        let add_edge =
-            |b: &mut Built, la: u32, lb: u32, na: Node, nb: Node, len: f64, known: Option<Option<ObjectSet>>| {
-                let item = Item::Edge(mode, na.min(nb), na.max(nb));
-                let lab = match known {
-                    Some(l) => rule.known(l.as_ref()),
-                    None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
-                        (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
-                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x | y),
-                    },
-                };
-                b.g.add_edge(la, lb, len, lab);
-                b.ekey.push(Some(item));
-                b.erule.push(rule);
-            };
-        for e in 0..m {
-            let (va, vb) = s.map.edges[e];
-            let known = match mode {
-                Empty => s.map_edges[e].clone(),
-                Carry(..) => s.labels.get(&Item::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
-            };
-            add_edge(&mut b, off + va, off + vb, Node::Map(va), Node::Map(vb), s.map.elen[e], known);
-        }
-        for (xi, &x) in extras.iter().enumerate() {
-            let lx = off + n + xi as u32;
-            let qx = &s.goals[x as usize].q;
-            for &v in &nbrs[&x] {
-                let len = dist2(qx, s.map.q(v)).sqrt();
-                let known = lookup(s, Item::Edge(mode, Node::Map(v), Node::Goal(x)));
-                add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
-            }
-        }
-    }
-    let local = |layer: usize, node: Node| -> u32 {
-        let off = offsets[layer];
-        match node {
-            Node::Map(v) => off + v,
-            Node::Goal(x) => off + n + layers[layer].2.iter().position(|&y| y == x).expect("extra") as u32,
-        }
-    };
-    b.start = local(0, Node::Map(0));
-    let transition = |b: &mut Built, a: u32, c: u32, len: f64, l: &ObjectSet| {
-        let e = b.g.add_edge(a, c, len, Lab::Known(mask(l)));
-        b.fixed.insert(e, l.clone());
-        b.ekey.push(None);
-        b.erule.push(Rule::Plain);
-    };
-    match object {
-        None => b.goal = local(0, Node::Goal(pre)),
-        Some(_) => {
-            let len = 2.0 * dist2(&goal.cfg.q_pregrasp, &goal.cfg.q_grasp).sqrt();
-            transition(&mut b, local(0, Node::Goal(pre)), local(1, Node::Goal(pre)), len, &goal.approach);
-            if layers.len() == 3 {
-                let Some(Node::Goal(d)) = drop else { unreachable!("three layers only with a drop goal") };
-                transition(&mut b, local(1, Node::Goal(d)), local(2, Node::Goal(d)), 0.0, &ObjectSet::new());
-                b.goal = local(2, Node::Map(0));
-            } else {
-                b.goal = local(1, drop.unwrap_or(Node::Map(0)));
-            }
-        }
-    }
-    b
-}

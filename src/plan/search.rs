@@ -96,43 +96,38 @@ impl Ord for Len {
     }
 }
 
-struct State {
-    v: u32,
-    set: Mask,
-    len: f64,
-    parent: u32,
-    edge: u32,
-}
-
 /// Minimum-constraint removal: the path from `start` to `goal` whose union of labels is
-/// smallest, ties broken by length. A Dijkstra over (vertex, label set) ordered by
-/// (|set|, length), pruning a state when the same vertex was reached with a subset
-/// at no greater length. Exact on the graph; exponential only in the number of
-/// distinct label sets that reach a vertex.
+/// smallest, then the shortest path whose labels lie inside that union.
+///
+/// Phase one is a Dijkstra over (vertex, label set) ordered by (|set|, length) that
+/// drops a state when the same vertex was already reached with a subset: exact for the
+/// smallest set, and the number of states per vertex stays an antichain of sets.
+/// Phase two is a plain Dijkstra on length through elements whose labels lie inside
+/// the set found, which breaks ties between paths with that set by length.
 ///
 /// States with `bound` or more objects are dropped: the caller already holds an
 /// answer that small, so only strictly smaller sets are worth finding.
 pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Found> {
+    let best = smallest_set(g, start, goal, bound)?;
+    shortest_within(g, start, goal, best)
+}
+
+fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
     let start_set = g.vlab[start as usize].bound()?;
     if start_set.count_ones() >= bound {
         return None;
     }
-    let mut states = vec![State { v: start, set: start_set, len: 0.0, parent: u32::MAX, edge: u32::MAX }];
-    let mut alive = vec![true];
-    let mut fronts: Vec<Vec<u32>> = vec![Vec::new(); g.vlab.len()];
-    fronts[start as usize].push(0);
+    // Per vertex: the sets it was reached with (an antichain), and whether each is live.
+    let mut fronts: Vec<Vec<Mask>> = vec![Vec::new(); g.vlab.len()];
+    fronts[start as usize].push(start_set);
     let mut heap = BinaryHeap::new();
-    heap.push(Reverse((states[0].set.count_ones(), Len(0.0), 0u32)));
-    while let Some(Reverse((_, _, id))) = heap.pop() {
-        if !alive[id as usize] {
+    heap.push(Reverse((start_set.count_ones(), Len(0.0), start, start_set)));
+    while let Some(Reverse((_, Len(len), v, set))) = heap.pop() {
+        if !fronts[v as usize].contains(&set) {
             continue;
         }
-        let (v, set, len) = {
-            let s = &states[id as usize];
-            (s.v, s.set, s.len)
-        };
         if v == goal {
-            return Some(unwind(&states, id));
+            return Some(set);
         }
         for &(w, e) in &g.adj[v as usize] {
             let (Some(el), Some(wl)) = (g.elab[e as usize].bound(), g.vlab[w as usize].bound()) else {
@@ -142,48 +137,69 @@ pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> O
             if s2.count_ones() >= bound {
                 continue;
             }
-            let l2 = len + g.elen[e as usize];
             let front = &mut fronts[w as usize];
-            if front.iter().any(|&o| {
-                let o = &states[o as usize];
-                o.len <= l2 && subset(o.set, s2)
-            }) {
+            if front.iter().any(|&o| subset(o, s2)) {
                 continue;
             }
-            front.retain(|&o| {
-                let os = &states[o as usize];
-                let dominated = l2 <= os.len && subset(s2, os.set);
-                if dominated {
-                    alive[o as usize] = false;
-                }
-                !dominated
-            });
-            let nid = states.len() as u32;
-            heap.push(Reverse((s2.count_ones(), Len(l2), nid)));
-            states.push(State { v: w, set: s2, len: l2, parent: id, edge: e });
-            alive.push(true);
-            fronts[w as usize].push(nid);
+            front.retain(|&o| !subset(s2, o));
+            front.push(s2);
+            heap.push(Reverse((s2.count_ones(), Len(len + g.elen[e as usize]), w, s2)));
         }
     }
     None
 }
 
-fn unwind(states: &[State], mut id: u32) -> Found {
-    let last = &states[id as usize];
-    let (set, len) = (last.set, last.len);
-    let (mut verts, mut edges) = (Vec::new(), Vec::new());
-    loop {
-        let s = &states[id as usize];
-        verts.push(s.v);
-        if s.parent == u32::MAX {
-            break;
-        }
-        edges.push(s.edge);
-        id = s.parent;
+/// The path a search's `prev` links spell from `goal` back to `start`, with the union of
+/// the labels on it (the searches only walk unblocked elements).
+fn trace_back(g: &Graph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -> Found {
+    let (mut verts, mut edges) = (vec![goal], Vec::new());
+    let mut u = goal;
+    while u != start {
+        let (p, e) = prev[u as usize];
+        edges.push(e);
+        verts.push(p);
+        u = p;
     }
     verts.reverse();
     edges.reverse();
+    let vert_labels = verts.iter().map(|&x| &g.vlab[x as usize]);
+    let edge_labels = edges.iter().map(|&e| &g.elab[e as usize]);
+    let set = vert_labels.chain(edge_labels).fold(0, |acc, l| acc | l.bound().unwrap_or(0));
     Found { verts, edges, set, len }
+}
+
+/// The shortest path through elements whose labels lie inside `within`.
+fn shortest_within(g: &Graph, start: u32, goal: u32, within: Mask) -> Option<Found> {
+    let ok = |l: &Lab| l.bound().is_some_and(|s| subset(s, within));
+    if !ok(&g.vlab[start as usize]) {
+        return None;
+    }
+    let n = g.vlab.len();
+    let mut dist = vec![f64::INFINITY; n];
+    let mut prev: Vec<(u32, u32)> = vec![(u32::MAX, u32::MAX); n];
+    let mut heap = BinaryHeap::new();
+    dist[start as usize] = 0.0;
+    heap.push(Reverse((Len(0.0), start)));
+    while let Some(Reverse((Len(d), v))) = heap.pop() {
+        if d > dist[v as usize] {
+            continue;
+        }
+        if v == goal {
+            return Some(trace_back(g, &prev, start, goal, d));
+        }
+        for &(w, e) in &g.adj[v as usize] {
+            if !ok(&g.elab[e as usize]) || !ok(&g.vlab[w as usize]) {
+                continue;
+            }
+            let d2 = d + g.elen[e as usize];
+            if d2 < dist[w as usize] {
+                dist[w as usize] = d2;
+                prev[w as usize] = (v, e);
+                heap.push(Reverse((Len(d2), w)));
+            }
+        }
+    }
+    None
 }
 
 /// The paper's rule: the path with the fewest vertices (ties broken by length),
@@ -201,24 +217,7 @@ pub(crate) fn fewest_vertices(g: &Graph, start: u32, goal: u32) -> Option<Found>
             continue;
         }
         if v == goal {
-            let (mut verts, mut edges) = (vec![v], Vec::new());
-            let mut u = v;
-            while u != start {
-                let (p, e) = prev[u as usize];
-                edges.push(e);
-                verts.push(p);
-                u = p;
-            }
-            verts.reverse();
-            edges.reverse();
-            let mut set = 0;
-            for &x in &verts {
-                set |= g.vlab[x as usize].bound().expect("unblocked");
-            }
-            for &e in &edges {
-                set |= g.elab[e as usize].bound().expect("unblocked");
-            }
-            return Some(Found { verts, edges, set, len: l });
+            return Some(trace_back(g, &prev, start, goal, l));
         }
         for &(w, e) in &g.adj[v as usize] {
             if g.elab[e as usize].bound().is_none() || g.vlab[w as usize].bound().is_none() {

@@ -23,6 +23,16 @@ pub trait Space: Sync {
     /// Labelled check of the straight joint-space segment `a`-`b` (endpoints included),
     /// at steps no longer than `step`.
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check;
+    /// What `mode.held` adds to `check_segment` on the same samples, the robot's own
+    /// bodies unchecked: used when the empty-hand label of the segment is known.
+    fn check_segment_held(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+        self.check_segment(a, b, step, mode, checks)
+    }
+    /// The certifying check of a segment: the samples of `check_segment` at `resolution`
+    /// and more between them (for a world robot, exactly those `verify` takes).
+    fn check_segment_fine(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
+        self.check_segment(a, b, resolution / 4.0, mode, checks)
+    }
     fn home(&self) -> &[f64];
     /// Where a carried object is released (often `home`).
     fn drop_config(&self) -> &[f64];

@@ -47,7 +47,7 @@ pub fn scenario(robots: usize, objects: usize, target: Option<u32>, config_robot
             pose_world_base: Pose::identity(),
             hand: None,
             flange: None,
-            home: JointValues { values: vec![0.0, 0.0], span: *span },
+            home: JointValues { values: vec![0.0, 0.0], span: *span, units: Vec::new() },
             drop: None,
             allow_contact: vec![],
         })
@@ -71,7 +71,7 @@ pub fn scenario(robots: usize, objects: usize, target: Option<u32>, config_robot
         Some(k) => Target::Object { object: ObjectId(k), span: target_span },
         None => Target::Config {
             robot: RobotId(config_robot),
-            q: JointValues { values: vec![0.5, -0.5], span: q_span },
+            q: JointValues { values: vec![0.5, -0.5], span: q_span, units: Vec::new() },
             span: target_span,
         },
     };

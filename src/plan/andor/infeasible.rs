@@ -55,7 +55,9 @@ pub enum Cause {
     #[error("{chain}")]
     #[diagnostic(
         code(declutter::plan::cycle),
-        help("no removal order can break this loop; another robot or grasp for one of these objects would")
+        help(
+            "no removal order can break this loop; it takes another robot, or another grasp, for one of these objects"
+        )
     )]
     Cycle {
         objects: Vec<ObjectId>,
@@ -83,6 +85,9 @@ impl Infeasible {
 pub fn describe(u: &Unreachable) -> &'static str {
     match u {
         Unreachable::NoGraspSolution => "no grasp has an inverse-kinematics solution clear of fixed bodies",
+        Unreachable::ApproachBlocked => {
+            "its grasps are reachable, but every straight approach or retreat carrying it hits something fixed"
+        }
         Unreachable::NoPath => "every path to a grasp hits something fixed",
         Unreachable::GoalBlocked => "the configuration is outside the joint limits or hits something fixed",
     }

@@ -1,0 +1,401 @@
+//! The layered search graphs of a query and the label store they read: which
+//! roadmap elements have been checked in which mode (empty hand, or carrying an
+//! object after a given grasp), and how a graph for one round and one goal is built.
+
+use std::collections::HashMap;
+
+use super::knn::dist2;
+use super::roadmap::Roadmap;
+use super::search::{mask, Found, Graph, Lab};
+use super::space::Mode;
+use crate::resolve::ObjectId;
+use crate::world::{GraspConfig, Held, ObjectSet};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(super) enum Node {
+    Map(u32),
+    Goal(u32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum ModeKey {
+    Empty,
+    /// Carrying the object after the `.1`-th configuration `selectGrasps` returned.
+    Carry(ObjectId, u32),
+}
+
+/// Anything that gets a label.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum Item {
+    Vertex(ModeKey, Node),
+    /// Nodes in increasing order.
+    Edge(ModeKey, Node, Node),
+    /// Pre-grasp -> grasp with the object absent, then back carrying it.
+    Approach(ObjectId, u32),
+}
+
+pub(super) struct GoalNode {
+    pub(super) q: Vec<f64>,
+    /// Cumulative neighbours at round r (index r).
+    pub(super) nbrs: Vec<Vec<u32>>,
+}
+
+pub(super) type Carried = (Held, Vec<f64>, Vec<f64>);
+
+pub(super) struct State {
+    pub(super) map: Roadmap,
+    pub(super) goals: Vec<GoalNode>,
+    pub(super) goal_ids: HashMap<Vec<u64>, u32>,
+    /// Empty-hand labels of roadmap edges, by edge index (`None`: not checked yet).
+    pub(super) map_edges: Vec<Option<Option<ObjectSet>>>,
+    pub(super) labels: HashMap<Item, Option<ObjectSet>>,
+    /// Segment items whose stored label comes from the certifying (fine) check.
+    pub(super) certified: std::collections::HashSet<Item>,
+    /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
+    pub(super) helds: HashMap<(ObjectId, u32), Carried>,
+    /// `selectGrasps` answers, computed once per object (IK is not cheap).
+    pub(super) grasps: HashMap<ObjectId, Vec<GraspConfig>>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Rule {
+    Plain,
+    /// Labels containing the object block (it cannot be removed to reach itself).
+    Forbid(ObjectId),
+    /// The object is gone from the scene.
+    Strip(ObjectId),
+}
+
+impl Rule {
+    pub(super) fn known(self, l: Option<&ObjectSet>) -> Lab {
+        self.apply(l, false)
+    }
+    fn bound(self, l: Option<&ObjectSet>) -> Lab {
+        self.apply(l, true)
+    }
+    fn apply(self, l: Option<&ObjectSet>, unknown: bool) -> Lab {
+        let Some(s) = l else { return Lab::Blocked };
+        let s = match self {
+            Rule::Plain => mask(s),
+            Rule::Forbid(o) if s.contains(o) => return Lab::Blocked,
+            Rule::Forbid(_) => mask(s),
+            Rule::Strip(o) => mask(s) & !(1 << o.index().min(127)),
+        };
+        if unknown {
+            Lab::Unknown(s)
+        } else {
+            Lab::Known(s)
+        }
+    }
+}
+
+/// A layered search graph for one goal at one round, with the key of every element.
+pub(super) struct Built {
+    pub(super) g: Graph,
+    pub(super) vkey: Vec<Item>,
+    pub(super) vrule: Vec<Rule>,
+    /// `None` for elements whose label was final at build time.
+    pub(super) ekey: Vec<Option<Item>>,
+    pub(super) erule: Vec<Rule>,
+    /// Layer of each vertex and its node.
+    pub(super) vnode: Vec<(u8, Node)>,
+    /// Labels of the transition edges (which have no key).
+    pub(super) fixed: HashMap<u32, ObjectSet>,
+    pub(super) start: u32,
+    pub(super) goal: u32,
+}
+
+/// A usable grasp: its goal node and the approach/retreat label.
+#[derive(Clone)]
+pub(super) struct GraspGoal {
+    pub(super) cfg: GraspConfig,
+    /// Empty-hand label of the pre-grasp.
+    pub(super) pre_set: ObjectSet,
+    /// Position in the `selectGrasps` answer (the carry mode's key).
+    pub(super) key: u32,
+    pub(super) pre: u32,
+    pub(super) approach: ObjectSet,
+}
+
+/// A configuration-level job for the workers.
+pub(super) struct Job {
+    pub(super) item: Item,
+    pub(super) a: Vec<f64>,
+    pub(super) b: Option<Vec<f64>>,
+    pub(super) mode: Mode,
+    /// For `Approach`: the grasp configuration, checked pre -> grasp (absent) then back (held).
+    pub(super) grasp: Option<Vec<f64>>,
+    /// For an edge carrying an object: the same edge's empty-hand label, when known.
+    pub(super) empty: Option<Option<ObjectSet>>,
+}
+
+/// The exact union of the labels on a fully known path.
+pub(super) fn exact_set(s: &State, b: &Built, f: &Found) -> ObjectSet {
+    let mut out = ObjectSet::new();
+    let mut add = |l: Option<Option<ObjectSet>>, rule: Rule| {
+        if let Some(Some(mut l)) = l {
+            if let Rule::Strip(o) = rule {
+                l.remove(o);
+            }
+            out.union_with(&l);
+        }
+    };
+    for &v in &f.verts {
+        add(lookup(s, b.vkey[v as usize]), b.vrule[v as usize]);
+    }
+    for &e in &f.edges {
+        match b.ekey[e as usize] {
+            Some(k) => add(lookup(s, k), b.erule[e as usize]),
+            None => add(b.fixed.get(&e).cloned().map(Some), Rule::Plain),
+        }
+    }
+    out
+}
+
+pub(super) fn node_q(s: &State, n: Node) -> &[f64] {
+    match n {
+        Node::Map(v) => s.map.q(v),
+        Node::Goal(g) => &s.goals[g as usize].q,
+    }
+}
+
+/// The stored label of an item, if checked.
+pub(super) fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
+    match it {
+        Item::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
+        Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
+            let e = map_edge(s, a, b)?;
+            s.map_edges[e].clone()
+        }
+        _ => s.labels.get(&it).cloned(),
+    }
+}
+
+pub(super) fn store(s: &mut State, it: Item, l: Option<ObjectSet>) {
+    if let Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
+        if let Some(e) = map_edge(s, a, b) {
+            s.map_edges[e] = Some(l);
+            return;
+        }
+    }
+    s.labels.insert(it, l);
+}
+
+pub(super) fn map_edge(s: &State, a: u32, b: u32) -> Option<usize> {
+    // Roadmap edges are sorted within each round and rounds are appended in order.
+    let pair = (a.min(b), a.max(b));
+    // The round of an edge is the round of its later vertex.
+    let r = s.map.rounds.partition_point(|e| e.verts <= pair.1 as usize);
+    let (from, to) = (s.map.rounds[r - 1].edges, s.map.rounds.get(r)?.edges);
+    s.map.edges[from..to].binary_search(&pair).ok().map(|i| from + i)
+}
+
+pub(super) fn mode_of(s: &State, m: ModeKey) -> Mode {
+    match m {
+        ModeKey::Empty => Mode::default(),
+        ModeKey::Carry(o, g) => Mode { absent: ObjectSet::single(o), held: Some(s.helds[&(o, g)].0.clone()) },
+    }
+}
+
+pub(super) fn job(s: &State, it: Item) -> Job {
+    match it {
+        Item::Vertex(m, n) => {
+            Job { item: it, a: node_q(s, n).to_vec(), b: None, mode: mode_of(s, m), grasp: None, empty: None }
+        }
+        Item::Edge(m, a, b) => Job {
+            item: it,
+            a: node_q(s, a).to_vec(),
+            b: Some(node_q(s, b).to_vec()),
+            mode: mode_of(s, m),
+            grasp: None,
+            empty: match m {
+                ModeKey::Carry(..) => lookup(s, Item::Edge(ModeKey::Empty, a, b)),
+                ModeKey::Empty => None,
+            },
+        },
+        Item::Approach(o, g) => {
+            let (held, q_grasp, q_pre) = s.helds[&(o, g)].clone();
+            Job {
+                item: it,
+                a: q_pre,
+                b: None,
+                mode: Mode { absent: ObjectSet::single(o), held: Some(held) },
+                grasp: Some(q_grasp),
+                empty: None,
+            }
+        }
+    }
+}
+
+/// Cumulative neighbours of a goal node at round `r`.
+pub(super) fn goal_nbrs(s: &mut State, id: u32, r: usize, k: usize) -> Vec<u32> {
+    let g = &mut s.goals[id as usize];
+    while g.nbrs.len() <= r {
+        let rr = g.nbrs.len();
+        let mut n: Vec<u32> = if rr == 0 { Vec::new() } else { g.nbrs[rr - 1].clone() };
+        n.extend(s.map.trees[rr].nearest(&g.q, k, |_| false).into_iter().map(|(_, i)| i));
+        n.sort_unstable();
+        n.dedup();
+        g.nbrs.push(n);
+    }
+    g.nbrs[r].clone()
+}
+
+/// The layered graph of one goal at round `r`; edges blocked, or touching `bound`
+/// objects or more, are left out.
+pub(super) fn build(
+    s: &mut State,
+    r: usize,
+    k: usize,
+    object: Option<ObjectId>,
+    goal: &GraspGoal,
+    drop: Option<Node>,
+    bound: u32,
+) -> Built {
+    use ModeKey::{Carry, Empty};
+    let pre = goal.pre;
+    let mut layers: Vec<(ModeKey, Rule, Vec<u32>)> = Vec::new();
+    match object {
+        None => layers.push((Empty, Rule::Plain, vec![pre])),
+        Some(o) => {
+            let carry = Carry(o, goal.key);
+            layers.push((Empty, Rule::Forbid(o), vec![pre]));
+            match drop {
+                Some(Node::Goal(d)) => {
+                    let extras = if d == pre { vec![pre] } else { vec![pre, d] };
+                    layers.push((carry, Rule::Plain, extras));
+                    layers.push((Empty, Rule::Strip(o), vec![d]));
+                }
+                _ => layers.push((carry, Rule::Plain, vec![pre])),
+            }
+        }
+    }
+    let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (_, _, extras) in &layers {
+        for &x in extras {
+            if let std::collections::hash_map::Entry::Vacant(e) = nbrs.entry(x) {
+                e.insert(goal_nbrs(s, x, r, k));
+            }
+        }
+    }
+    let s = &*s;
+    let n = s.map.rounds[r].verts as u32;
+    let m = s.map.rounds[r].edges;
+    let mut b = Built {
+        g: Graph::default(),
+        vkey: Vec::new(),
+        vrule: Vec::new(),
+        ekey: Vec::new(),
+        erule: Vec::new(),
+        vnode: Vec::new(),
+        fixed: HashMap::new(),
+        start: 0,
+        goal: 0,
+    };
+    let mut offsets = Vec::new();
+    for (li, (mode, rule, extras)) in layers.iter().enumerate() {
+        let (mode, rule) = (*mode, *rule);
+        let off = b.g.vlab.len() as u32;
+        offsets.push(off);
+        let strip = |l: &ObjectSet| {
+            let mut l = l.clone();
+            if let Carry(o, _) = mode {
+                l.remove(o);
+            }
+            l
+        };
+        let nodes = (0..n).map(Node::Map).chain(extras.iter().map(|&x| Node::Goal(x)));
+        for node in nodes {
+            let item = Item::Vertex(mode, node);
+            let lab = match (mode, node) {
+                (Empty, Node::Map(v)) => rule.known(Some(&s.map.vlab[v as usize])),
+                _ => match lookup(s, item) {
+                    Some(l) => rule.known(l.as_ref()),
+                    None => {
+                        // Carrying: the arm's own contacts stay, the object's are unknown.
+                        let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
+                        match empty {
+                            Some(l) => rule.bound(Some(&strip(&l))),
+                            None => Lab::Unknown(0),
+                        }
+                    }
+                },
+            };
+            b.g.add_vertex(lab);
+            b.vkey.push(item);
+            b.vrule.push(rule);
+            b.vnode.push((li as u8, node));
+        }
+        let add_edge =
+            |b: &mut Built, la: u32, lb: u32, na: Node, nb: Node, len: f64, known: Option<Option<ObjectSet>>| {
+                let item = Item::Edge(mode, na.min(nb), na.max(nb));
+                let lab = match known {
+                    Some(l) => rule.known(l.as_ref()),
+                    None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
+                        (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
+                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x | y),
+                    },
+                };
+                // Edges no answer better than `bound` can use are left out of the graph.
+                if lab.bound().is_none_or(|m| m.count_ones() >= bound) {
+                    return;
+                }
+                b.g.add_edge(la, lb, len, lab);
+                b.ekey.push(Some(item));
+                b.erule.push(rule);
+            };
+        for e in 0..m {
+            let (va, vb) = s.map.edges[e];
+            let known = match mode {
+                Empty => s.map_edges[e].clone(),
+                Carry(..) => s.labels.get(&Item::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
+            };
+            add_edge(&mut b, off + va, off + vb, Node::Map(va), Node::Map(vb), s.map.elen[e], known);
+        }
+        for (xi, &x) in extras.iter().enumerate() {
+            let lx = off + n + xi as u32;
+            let qx = &s.goals[x as usize].q;
+            for &v in &nbrs[&x] {
+                let len = dist2(qx, s.map.q(v)).sqrt();
+                let known = lookup(s, Item::Edge(mode, Node::Map(v), Node::Goal(x)));
+                add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
+            }
+        }
+    }
+    let local = |layer: usize, node: Node| -> u32 {
+        let off = offsets[layer];
+        match node {
+            Node::Map(v) => off + v,
+            Node::Goal(x) => off + n + layers[layer].2.iter().position(|&y| y == x).expect("extra") as u32,
+        }
+    };
+    b.start = local(0, Node::Map(0));
+    let transition = |b: &mut Built, a: u32, c: u32, len: f64, l: &ObjectSet| {
+        let e = b.g.add_edge(a, c, len, Lab::Known(mask(l)));
+        b.fixed.insert(e, l.clone());
+        b.ekey.push(None);
+        b.erule.push(Rule::Plain);
+    };
+    match object {
+        None => b.goal = local(0, Node::Goal(pre)),
+        Some(o) => {
+            // The approach and retreat, labelled like an edge: coarsely first, certified
+            // when a winning path uses it.
+            let len = 2.0 * dist2(&goal.cfg.q_pregrasp, &goal.cfg.q_grasp).sqrt();
+            let item = Item::Approach(o, goal.key);
+            if let Some(Some(l)) = lookup(s, item) {
+                b.g.add_edge(local(0, Node::Goal(pre)), local(1, Node::Goal(pre)), len, Lab::Known(mask(&l)));
+                b.ekey.push(Some(item));
+                b.erule.push(Rule::Plain);
+            }
+            if layers.len() == 3 {
+                let Some(Node::Goal(d)) = drop else { unreachable!("three layers only with a drop goal") };
+                transition(&mut b, local(1, Node::Goal(d)), local(2, Node::Goal(d)), 0.0, &ObjectSet::new());
+                b.goal = local(2, Node::Map(0));
+            } else {
+                b.goal = local(1, drop.unwrap_or(Node::Map(0)));
+            }
+        }
+    }
+    b
+}
