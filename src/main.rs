@@ -3,12 +3,18 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 
 use declutter::driver::{self, Format, GlobalOptions, Meshes};
 
 #[derive(Parser)]
-#[command(name = "declutter", version, about = "Compile robot-cell scenarios into verified obstacle-removal schedules")]
+#[command(
+    name = "declutter",
+    version,
+    about = "Compile robot-cell scenarios into verified obstacle-removal schedules",
+    after_help = "Exit codes: 0 success; 1 input or usage error, or a schedule that does not verify; 2 infeasible."
+)]
 struct Cli {
     /// Extra directories searched for `package://NAME/...` mesh URIs (also: DECLUTTER_PACKAGE_PATH).
     #[arg(long = "package-path", global = true, value_name = "DIR")]
@@ -29,15 +35,22 @@ enum Command {
     /// Check a scenario: parse, resolve names and units, load robots and meshes.
     ///
     /// Example: declutter check examples/box_lid.dcl
-    Check { file: PathBuf },
+    Check {
+        /// The scenario file (.dcl).
+        file: PathBuf,
+    },
     /// Print the resolved scenario as YAML (world-frame poses, SI units, grasps expanded).
     ///
     /// Example: declutter resolve examples/box_lid.dcl
-    Resolve { file: PathBuf },
+    Resolve {
+        /// The scenario file (.dcl).
+        file: PathBuf,
+    },
     /// Plan and print a verified action schedule.
     ///
     /// Example: declutter compile examples/box_lid.dcl --seed 7 --stats
     Compile {
+        /// The scenario file (.dcl).
         file: PathBuf,
         /// Override the scenario's planner seed.
         #[arg(long)]
@@ -45,6 +58,7 @@ enum Command {
         /// Override the scenario's objective.
         #[arg(long, value_parser = ["fewest_removals", "fewest_vertices"])]
         objective: Option<String>,
+        /// The schedule's format.
         #[arg(long, value_enum, default_value_t = Format::Yaml)]
         format: Format,
         /// Write the schedule here instead of stdout.
@@ -57,19 +71,37 @@ enum Command {
     /// Independently re-check a schedule against its scenario.
     ///
     /// Example: declutter verify examples/box_lid.dcl box_lid.yaml
-    Verify { file: PathBuf, schedule: PathBuf },
-    /// Print the AND/OR precedence graph in Graphviz DOT.
+    Verify {
+        /// The scenario file (.dcl) the schedule was compiled from.
+        file: PathBuf,
+        /// The schedule to check, as `declutter compile` wrote it (YAML or JSON).
+        schedule: PathBuf,
+    },
+    /// Print the AND/OR precedence graph in Graphviz DOT (exit 2, with the reason, if infeasible).
     ///
     /// Example: declutter graph examples/box_lid.dcl | dot -Tsvg > g.svg
     Graph {
+        /// The scenario file (.dcl).
         file: PathBuf,
+        /// Override the scenario's planner seed (as for `compile`).
         #[arg(long)]
         seed: Option<u64>,
+        /// Override the scenario's objective (as for `compile`).
+        #[arg(long, value_parser = ["fewest_removals", "fewest_vertices"])]
+        objective: Option<String>,
     },
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // Exit 2 means "infeasible", so usage errors must not use clap's default of 2.
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            let asked = matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion);
+            return ExitCode::from(if asked { driver::EXIT_OK } else { driver::EXIT_INPUT });
+        }
+    };
     let mut global = GlobalOptions::from_env(cli.package_path, cli.no_color);
     global.meshes = cli.meshes;
     let code = match cli.command {
@@ -79,7 +111,9 @@ fn main() -> ExitCode {
             driver::compile(&file, &global, &driver::CompileOptions { seed, objective, format, out, stats })
         }
         Command::Verify { file, schedule } => driver::verify(&file, &schedule, &global),
-        Command::Graph { file, seed } => driver::graph(&file, &global, seed),
+        Command::Graph { file, seed, objective } => {
+            driver::graph(&file, &global, &driver::GraphOptions { seed, objective })
+        }
     };
     ExitCode::from(code)
 }

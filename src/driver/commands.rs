@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::{CompileOptions, GlobalOptions};
+use super::{CompileOptions, GlobalOptions, GraphOptions};
 
 pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     super::front::check(file, g)
@@ -16,6 +16,6 @@ pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
 pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions) -> u8 {
     super::verify_cmd::verify(file, schedule, g)
 }
-pub fn graph(file: &Path, g: &GlobalOptions, seed: Option<u64>) -> u8 {
-    super::compile::graph(file, g, seed)
+pub fn graph(file: &Path, g: &GlobalOptions, o: &GraphOptions) -> u8 {
+    super::compile::graph(file, g, o)
 }

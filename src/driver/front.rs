@@ -55,6 +55,9 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     );
     if summary.library {
         eprintln!("ok: {} (a library: no target) — {counts}", file.display());
+        for w in &summary.warnings {
+            eprint!("{}", render_one(&sources, w, render_options(g)));
+        }
         return EXIT_OK;
     }
     let mut sources = SourceMap::new();

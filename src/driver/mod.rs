@@ -1,5 +1,5 @@
 //! The driver runs the pipeline for each CLI command and turns errors into reports.
-//! Exit codes: 0 success, 1 input error (or verification failure), 2 infeasible.
+//! Exit codes: 0 success, 1 input or usage error (or verification failure), 2 infeasible.
 
 use std::path::PathBuf;
 
@@ -8,7 +8,7 @@ mod compile;
 mod pipeline;
 mod verify_cmd;
 
-pub use compile::stats_table;
+pub use compile::{plan_verified, stats_table, Planned};
 pub use verify_cmd::parse_schedule;
 mod front;
 
@@ -72,6 +72,14 @@ pub struct CompileOptions {
     pub format: Format,
     pub out: Option<PathBuf>,
     pub stats: bool,
+}
+
+/// Options of `declutter graph`: the planning overrides of `compile`, so it draws the
+/// graph a `compile` run with the same options planned.
+#[derive(Clone, Debug, Default)]
+pub struct GraphOptions {
+    pub seed: Option<u64>,
+    pub objective: Option<String>,
 }
 
 pub const EXIT_OK: u8 = 0;

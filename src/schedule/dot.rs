@@ -65,15 +65,23 @@ pub fn to_dot(scn: &Scenario, sol: &Solution) -> String {
     out.push_str("  graph [rankdir=TB, fontname=\"Helvetica\"];\n");
     out.push_str("  node [shape=plaintext, fontname=\"Helvetica\"];\n");
     out.push_str("  edge [fontname=\"Helvetica\", fontsize=10];\n");
+    let mut drawn: Vec<String> = Vec::new();
     for n in g.nodes() {
         let node = g.node(n);
         let cols = node.flags.len().max(1);
+        let name = node.item.name(scn);
+        // A repeated object that was never analysed here reuses the answers of its first
+        // node (the planner memoises them): say so, rather than leave a bare ∅.
+        let unasked = node.flags.iter().all(|(_, f)| *f == crate::plan::andor::Flag::Empty);
+        let note =
+            if unasked && drawn.contains(&name) { "<BR/><FONT POINT-SIZE=\"10\">answers as above</FONT>" } else { "" };
         let mut label = String::new();
         let _ = write!(
             label,
-            "<TABLE BORDER=\"0\" CELLBORDER=\"1\" CELLSPACING=\"0\" CELLPADDING=\"4\"><TR><TD COLSPAN=\"{cols}\"><B>{}</B></TD></TR><TR>",
-            html(&node.item.name(scn))
+            "<TABLE BORDER=\"0\" CELLBORDER=\"1\" CELLSPACING=\"0\" CELLPADDING=\"4\"><TR><TD COLSPAN=\"{cols}\"><B>{}</B>{note}</TD></TR><TR>",
+            html(&name)
         );
+        drawn.push(name);
         for (r, f) in &node.flags {
             let border = if chosen.contains(&(n, *r)) { " BORDER=\"3\"" } else { "" };
             let _ = write!(

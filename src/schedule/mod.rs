@@ -120,15 +120,32 @@ pub fn scenario_name(scn: &Scenario) -> String {
     })
 }
 
-/// Builds the schedule of a solution.
-pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
-    let graph = &sol.graph;
-    let target = match &scn.target {
+/// The scenario's target as a schedule writes it.
+pub fn target_spec(scn: &Scenario) -> TargetSpec {
+    match &scn.target {
         Target::Object { object, .. } => TargetSpec::Object(scn.object(*object).body.name.clone()),
         Target::Config { robot, q, .. } => {
             TargetSpec::Config { robot: scn.robot(*robot).name.clone(), q: q.values.clone() }
         }
-    };
+    }
+}
+
+impl std::fmt::Display for TargetSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TargetSpec::Object(name) => write!(f, "object `{name}`"),
+            TargetSpec::Config { robot, q } => {
+                let q: Vec<String> = q.iter().map(|v| format!("{v:.6}")).collect();
+                write!(f, "robot `{robot}` at [{}]", q.join(", "))
+            }
+        }
+    }
+}
+
+/// Builds the schedule of a solution.
+pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
+    let graph = &sol.graph;
+    let target = target_spec(scn);
     let (status, removed, actions, reason) = match &sol.outcome {
         Ok(plan) => {
             let actions = plan
@@ -157,8 +174,17 @@ pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
         }
         Err(why) => (Status::Infeasible, Vec::new(), Vec::new(), Some(why.reason())),
     };
+    // The graph is a tree, so an object can stand under several branches; a repeat that
+    // was never analysed (all flags Empty) says nothing its first entry does not, and the
+    // list has no edges to place it by, so it is left out.
+    let mut listed = std::collections::HashSet::new();
     let nodes = graph
         .nodes()
+        .filter(|&n| {
+            let node = graph.node(n);
+            let first = listed.insert(node.item.name(scn));
+            first || node.flags.iter().any(|(_, f)| *f != Flag::Empty)
+        })
         .map(|n| {
             let node = graph.node(n);
             let mut flags = IndexMap::new();

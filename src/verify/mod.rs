@@ -5,15 +5,17 @@
 //! relies on. Every waypoint must lie inside the joint limits, every segment —
 //! interpolated at a quarter of the planner's resolution — must be free of fixed
 //! bodies, of the other robots at home and of objects not yet removed, with the
-//! carried object attached on the way back; each approach must end at its grasp
-//! (TCP within 1 mm and 0.5°), and the last action must grasp (or reach) the target.
+//! carried object attached on the way back until the drop configuration; each approach
+//! must end at its grasp (TCP within 1 mm and 0.5°), and the last action must grasp the
+//! target object or reach the target configuration. A reach has no grasp and no retreat.
+//! The schedule must name this scenario and its target.
 
 mod violation;
 
 pub use violation::{Location, Phase, Violation, ViolationKind};
 
 use crate::resolve::{ObjectId, RobotId, Target};
-use crate::schedule::{Schedule, ScheduledAction, Status};
+use crate::schedule::{target_spec, Schedule, ScheduledAction, Status, TargetSpec};
 use crate::world::{Check, CheckCtx, ObjectSet, World};
 
 /// How far the approach may end from the grasp's TCP position (metres).
@@ -39,11 +41,26 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
     let scn = world.scenario();
     let mut out = Vec::new();
     let mut summary = Summary { actions: schedule.actions.len(), ..Summary::default() };
+    // A schedule of another scenario, or of another target, may verify by accident.
+    let name = crate::schedule::scenario_name(scn);
+    if schedule.scenario != name {
+        out.push(Violation::general(ViolationKind::ScenarioMismatch {
+            expected: name,
+            found: schedule.scenario.clone(),
+        }));
+    }
+    let target = target_spec(scn);
+    if !same_target(&target, &schedule.target) {
+        out.push(Violation::general(ViolationKind::TargetMismatch {
+            expected: target.to_string(),
+            found: schedule.target.to_string(),
+        }));
+    }
     if schedule.status != Status::Solved {
         out.push(Violation::general(ViolationKind::NotSolved));
         return Err(out);
     }
-    let step = scn.planner.resolution / 4.0;
+    let resolution = scn.planner.resolution;
 
     // Ids must be 1..=n in order: "run in id order" then means list order.
     let mut order: Vec<&ScheduledAction> = schedule.actions.iter().collect();
@@ -60,10 +77,10 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
     let mut last_reached_target = false;
 
     for a in &order {
-        let Some(r) = scn.robot_by_name(&a.robot) else {
+        let robot = scn.robot_by_name(&a.robot);
+        if robot.is_none() {
             out.push(Violation::at(a.id, ViolationKind::UnknownRobot { name: a.robot.clone() }));
-            continue;
-        };
+        }
         // `after` must name earlier actions; its transitive closure is what this action may rely on.
         let mut waits: Vec<u32> = Vec::new();
         for &dep in &a.after {
@@ -81,94 +98,41 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
         let relied: ObjectSet = removed_by.iter().filter(|(id, _)| waits.contains(id)).map(|(_, o)| *o).collect();
         let gone: ObjectSet = removed_by.iter().map(|(_, o)| *o).collect();
 
-        let object = match &a.object {
+        // `fresh`: the object is known and still in place, so this action removes it.
+        let (object, fresh) = match &a.object {
             Some(name) => match scn.object_by_name(name) {
                 Some(o) if gone.contains(o) => {
                     out.push(Violation::at(a.id, ViolationKind::AlreadyRemoved { object: name.clone() }));
-                    continue;
+                    (Some(o), false)
                 }
-                Some(o) => Some(o),
+                Some(o) => (Some(o), true),
                 None => {
                     out.push(Violation::at(a.id, ViolationKind::UnknownObject { name: name.clone() }));
-                    continue;
+                    (None, false)
                 }
             },
-            None => None,
+            None => (None, true),
         };
 
-        let before = out.len();
-        check_waypoints(world, r, a, &mut out);
-        if out.len() > before {
-            closure.push((a.id, waits));
-            continue;
-        }
-        let home = world.home(r);
-        if let Some(first) = a.approach.first() {
-            if !near(first, home) {
-                out.push(Violation::waypoint(a.id, Phase::Approach, 0, ViolationKind::NotAtHome));
+        if let (Some(r), true) = (robot, fresh) {
+            let before = out.len();
+            check_waypoints(world, r, a, &mut out);
+            // Motions between broken waypoints are not checked: they would only repeat the fault.
+            if out.len() == before {
+                let scope = Scope { relied: &relied, gone: &gone, removed_by: &removed_by, resolution };
+                check_action(world, r, object, a, &scope, &mut summary, &mut out);
             }
-        }
-        let end_of_approach = a.approach.last();
-        match (object, end_of_approach) {
-            (_, None) => out.push(Violation::at(a.id, ViolationKind::EmptyApproach)),
-            (Some(o), Some(q_grasp)) => check_grasp(world, r, o, a, q_grasp, &mut out),
-            (None, Some(q_end)) => match &scn.target {
-                Target::Config { robot, q, .. } if *robot == r && near(q_end, &q.values) => {}
-                _ => out.push(Violation::at(a.id, ViolationKind::ReachNotTarget)),
-            },
-        }
-        if let Some(o) = object {
-            match (a.retreat.first(), end_of_approach) {
-                (Some(first), Some(q_grasp)) if !near(first, q_grasp) => {
-                    out.push(Violation::waypoint(a.id, Phase::Retreat, 0, ViolationKind::RetreatNotFromGrasp));
-                }
-                (None, _) => out.push(Violation::at(a.id, ViolationKind::EmptyRetreat)),
-                _ => {}
-            }
-            if let Some(last) = a.retreat.last() {
-                if !near(last, home) {
-                    out.push(Violation::waypoint(a.id, Phase::Retreat, a.retreat.len() - 1, ViolationKind::NotAtHome));
-                }
-            }
-            let _ = o;
         }
 
-        // Collisions. The scene holds every object not removed by an action this one
-        // waits for; a touched object that an earlier action did remove means a missing
-        // `after`, any other touched object is a collision.
-        let ctx_objects = |extra: Option<ObjectId>| {
-            let mut absent = relied.clone();
-            if let Some(o) = extra {
-                absent.insert(o);
-            }
-            absent
-        };
-        let n_approach = a.approach.len();
-        for (i, w) in a.approach.windows(2).enumerate() {
-            // The grasped object is not an obstacle on the final straight approach only.
-            let last = i + 2 == n_approach;
-            let ctx = CheckCtx::with_absent(ctx_objects(if last { object } else { None }));
-            let res = world.check_segment(r, &w[0], &w[1], step, &ctx);
-            summary.checks += ctx.checks.get();
-            summary.segments += 1;
-            report(scn, a.id, Phase::Approach, i, res, &gone, &removed_by, &mut out);
-        }
-        if let (Some(o), Some(q_grasp)) = (object, end_of_approach) {
-            let held = world.held(r, o, q_grasp);
-            for (i, w) in a.retreat.windows(2).enumerate() {
-                let mut ctx = CheckCtx::with_absent(ctx_objects(Some(o)));
-                ctx.held = Some(held.clone());
-                let res = world.check_segment(r, &w[0], &w[1], step, &ctx);
-                summary.checks += ctx.checks.get();
-                summary.segments += 1;
-                report(scn, a.id, Phase::Retreat, i, res, &gone, &removed_by, &mut out);
-            }
+        // Even a broken action counts as done, so later actions are judged on their own
+        // (a fault in one action must not reappear as collisions or a missing target later).
+        if let (Some(o), true) = (object, fresh) {
             removed_by.push((a.id, o));
         }
         closure.push((a.id, waits));
-        last_reached_target = match (&scn.target, object) {
-            (Target::Object { object: t, .. }, Some(o)) => *t == o,
-            (Target::Config { robot, .. }, None) => *robot == r,
+        last_reached_target = match (&scn.target, &a.object, object) {
+            (Target::Object { object: t, .. }, _, Some(o)) => *t == o,
+            (Target::Config { robot: t, .. }, None, _) => robot == Some(*t),
             _ => false,
         };
     }
@@ -185,6 +149,119 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
         Ok(summary)
     } else {
         Err(out)
+    }
+}
+
+/// What the scene holds while one action runs.
+struct Scope<'a> {
+    /// Removed by actions this one waits for: absent.
+    relied: &'a ObjectSet,
+    /// Removed by any earlier action: touching one of these means a missing `after`.
+    gone: &'a ObjectSet,
+    removed_by: &'a [(u32, ObjectId)],
+    resolution: f64,
+}
+
+/// Home, grasp, drop and every segment of one action whose waypoints are well-formed.
+/// `object` is `None` for the reach of a configuration target.
+fn check_action(
+    world: &World,
+    r: RobotId,
+    object: Option<ObjectId>,
+    a: &ScheduledAction,
+    scope: &Scope,
+    summary: &mut Summary,
+    out: &mut Vec<Violation>,
+) {
+    let scn = world.scenario();
+    let home = world.home(r);
+    if let Some(first) = a.approach.first() {
+        if !near(first, home) {
+            out.push(Violation::waypoint(a.id, Phase::Approach, 0, ViolationKind::NotAtHome));
+        }
+    }
+    let end_of_approach = a.approach.last();
+    match (object, end_of_approach) {
+        (_, None) => out.push(Violation::at(a.id, ViolationKind::EmptyApproach)),
+        (Some(o), Some(q_grasp)) => check_grasp(world, r, o, a, q_grasp, out),
+        (None, Some(q_end)) => match &scn.target {
+            Target::Config { robot, q, .. } if *robot == r && near(q_end, &q.values) => {}
+            _ => out.push(Violation::at(a.id, ViolationKind::ReachNotTarget)),
+        },
+    }
+    if object.is_some() {
+        match (a.retreat.first(), end_of_approach) {
+            (Some(first), Some(q_grasp)) if !near(first, q_grasp) => {
+                out.push(Violation::waypoint(a.id, Phase::Retreat, 0, ViolationKind::RetreatNotFromGrasp));
+            }
+            (None, _) => out.push(Violation::at(a.id, ViolationKind::EmptyRetreat)),
+            _ => {}
+        }
+        if let Some(last) = a.retreat.last() {
+            if !near(last, home) {
+                out.push(Violation::waypoint(a.id, Phase::Retreat, a.retreat.len() - 1, ViolationKind::NotAtHome));
+            }
+        }
+    } else {
+        // A reach ends the schedule at the target and stays there (the planner writes no
+        // retreat and no grasp); anything else would be motion this verifier never checks.
+        if let Some(grasp) = &a.grasp {
+            out.push(Violation::at(a.id, ViolationKind::GraspOnReach { grasp: grasp.clone() }));
+        }
+        if !a.retreat.is_empty() {
+            out.push(Violation::waypoint(a.id, Phase::Retreat, 0, ViolationKind::RetreatOnReach));
+        }
+    }
+
+    // Collisions. The scene holds every object not removed by an action this one
+    // waits for; a touched object that an earlier action did remove means a missing
+    // `after`, any other touched object is a collision.
+    let absent = |extra: Option<ObjectId>| {
+        let mut absent = scope.relied.clone();
+        if let Some(o) = extra {
+            absent.insert(o);
+        }
+        absent
+    };
+    let n_approach = a.approach.len();
+    for (i, w) in a.approach.windows(2).enumerate() {
+        // The grasped object is not an obstacle on the final straight approach only.
+        let last = i + 2 == n_approach;
+        let ctx = CheckCtx::with_absent(absent(if last { object } else { None }));
+        let res = world.check_motion(r, &w[0], &w[1], scope.resolution, &ctx);
+        summary.checks += ctx.checks.get();
+        summary.segments += 1;
+        report(scn, a.id, Phase::Approach, i, res, scope, out);
+    }
+    if let (Some(o), Some(q_grasp)) = (object, end_of_approach) {
+        let held = world.held(r, o, q_grasp);
+        // The object is carried up to the first waypoint at the drop configuration and
+        // released there; the rest of the way home is empty-handed.
+        let drop = world.drop_config(r);
+        let released = a.retreat.iter().skip(1).position(|q| near(q, drop)).map(|i| i + 1);
+        if released.is_none() {
+            out.push(Violation::at(a.id, ViolationKind::NoDrop));
+        }
+        let released = released.unwrap_or(a.retreat.len());
+        for (i, w) in a.retreat.windows(2).enumerate() {
+            let mut ctx = CheckCtx::with_absent(absent(Some(o)));
+            if i < released {
+                ctx.held = Some(held.clone());
+            }
+            let res = world.check_motion(r, &w[0], &w[1], scope.resolution, &ctx);
+            summary.checks += ctx.checks.get();
+            summary.segments += 1;
+            report(scn, a.id, Phase::Retreat, i, res, scope, out);
+        }
+    }
+}
+
+/// Same target; joint values compared with the home tolerance (they are written exactly).
+fn same_target(a: &TargetSpec, b: &TargetSpec) -> bool {
+    match (a, b) {
+        (TargetSpec::Object(x), TargetSpec::Object(y)) => x == y,
+        (TargetSpec::Config { robot: r, q }, TargetSpec::Config { robot: s, q: p }) => r == s && near(q, p),
+        _ => false,
     }
 }
 
@@ -257,15 +334,13 @@ fn check_grasp(world: &World, r: RobotId, o: ObjectId, a: &ScheduledAction, q: &
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn report(
     scn: &crate::resolve::Scenario,
     action: u32,
     phase: Phase,
     segment: usize,
     res: Check,
-    gone: &ObjectSet,
-    removed_by: &[(u32, ObjectId)],
+    scope: &Scope,
     out: &mut Vec<Violation>,
 ) {
     match res {
@@ -278,8 +353,8 @@ fn report(
         Check::Touches(set) => {
             for o in set.iter() {
                 let object = scn.object(o).body.name.clone();
-                let kind = if gone.contains(o) {
-                    let by = removed_by.iter().find(|(_, x)| *x == o).map_or(0, |(id, _)| *id);
+                let kind = if scope.gone.contains(o) {
+                    let by = scope.removed_by.iter().find(|(_, x)| *x == o).map_or(0, |(id, _)| *id);
                     ViolationKind::MissingAfter { object, by }
                 } else {
                     ViolationKind::HitsObject { object }

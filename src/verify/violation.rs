@@ -50,6 +50,16 @@ pub struct Violation {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ViolationKind {
     NotSolved,
+    /// The schedule's `scenario` is not this scenario's name.
+    ScenarioMismatch {
+        expected: String,
+        found: String,
+    },
+    /// The schedule's `target` is not this scenario's target.
+    TargetMismatch {
+        expected: String,
+        found: String,
+    },
     BadId {
         expected: u32,
     },
@@ -79,6 +89,8 @@ pub enum ViolationKind {
     EmptyApproach,
     EmptyRetreat,
     RetreatNotFromGrasp,
+    /// The retreat never passes the robot's drop configuration, so the object is never released.
+    NoDrop,
     MissingGrasp,
     UnknownGrasp {
         name: String,
@@ -93,6 +105,12 @@ pub enum ViolationKind {
         angle: f64,
     },
     ReachNotTarget,
+    /// A reach (no object) that names a grasp.
+    GraspOnReach {
+        grasp: String,
+    },
+    /// A reach (no object) with retreat waypoints: it ends at the target.
+    RetreatOnReach,
     /// A fixed body, another robot, self-collision or a joint limit, described.
     Blocked(String),
     /// Touches an object no earlier action removed.
@@ -143,6 +161,10 @@ impl fmt::Display for ViolationKind {
         use ViolationKind::*;
         match self {
             NotSolved => f.write_str("the schedule is not solved (status is not `solved`)"),
+            ScenarioMismatch { expected, found } => {
+                write!(f, "is for scenario `{found}`, not `{expected}`")
+            }
+            TargetMismatch { expected, found } => write!(f, "its target is {found}; the scenario's is {expected}"),
             BadId { expected } => write!(f, "ids must run 1, 2, 3, … in order; expected {expected}"),
             BadAfter { dep } => write!(f, "waits for action {dep}, which does not run before it"),
             UnknownRobot { name } => write!(f, "no robot named `{name}` in the scenario"),
@@ -156,6 +178,9 @@ impl fmt::Display for ViolationKind {
             EmptyApproach => f.write_str("has no approach waypoints"),
             EmptyRetreat => f.write_str("has no retreat waypoints"),
             RetreatNotFromGrasp => f.write_str("the retreat does not start where the approach ends"),
+            NoDrop => {
+                f.write_str("the retreat never reaches the robot's drop configuration, where the object is released")
+            }
             MissingGrasp => f.write_str("names no grasp"),
             UnknownGrasp { name, object } => write!(f, "object `{object}` has no grasp `{name}`"),
             GraspNotForHand { grasp } => write!(f, "grasp `{grasp}` is not for this robot's hand"),
@@ -166,6 +191,12 @@ impl fmt::Display for ViolationKind {
                 angle.to_degrees()
             ),
             ReachNotTarget => f.write_str("a reach action that does not end at the target configuration"),
+            GraspOnReach { grasp } => {
+                write!(f, "names grasp `{grasp}`, but a reach of the target configuration grasps nothing")
+            }
+            RetreatOnReach => {
+                f.write_str("a reach of the target configuration has retreat waypoints; it must end there")
+            }
             Blocked(what) => f.write_str(what),
             HitsObject { object } => write!(f, "touches `{object}`, which is still in place"),
             MissingAfter { object, by } => {
