@@ -4,21 +4,22 @@ use std::io::Write as _;
 use std::path::Path;
 
 use super::pipeline::{fail, load, render_options, Loaded};
-use super::{CompileOptions, Format, GlobalOptions, EXIT_INFEASIBLE, EXIT_INPUT, EXIT_OK};
+use super::{CompileOptions, Format, GlobalOptions, GraphOptions, EXIT_INFEASIBLE, EXIT_INPUT, EXIT_OK};
 use crate::diag::render_one;
 use crate::plan::andor::{self, Solution};
 use crate::plan::Planner;
 use crate::resolve::Objective;
 use crate::schedule::{self, QueryStat, Schedule, Status};
 use crate::verify;
+use crate::world::World;
 
-/// Resolves, builds the world with the command-line overrides, and solves.
+/// Resolves, builds the world with the command-line overrides, plans and verifies.
 fn plan(
     file: &Path,
     g: &GlobalOptions,
     seed: Option<u64>,
     objective: Option<Objective>,
-) -> Result<(Loaded, Solution), u8> {
+) -> Result<(Loaded, Planned), u8> {
     let loaded = load(file, g, |scn| {
         if let Some(s) = seed {
             scn.planner.seed = s;
@@ -27,10 +28,86 @@ fn plan(
             scn.planner.objective = o;
         }
     })?;
-    let scn = loaded.world.scenario();
-    let planner = Planner::new(&loaded.world, &scn.planner);
-    let solution = andor::solve(scn, &planner);
-    Ok((loaded, solution))
+    // A spinner with the phase and the elapsed time, only when a person is watching.
+    let spinner = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let bar = indicatif::ProgressBar::new_spinner();
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
+            bar.set_style(style);
+        }
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        bar
+    });
+    let result = plan_verified(&loaded.world, &|phase| {
+        if let Some(bar) = &spinner {
+            bar.set_message(phase.to_string());
+        }
+    });
+    if let Some(bar) = spinner {
+        bar.finish_and_clear();
+    }
+    match result {
+        Ok(planned) => {
+            if planned.refinements > 0 {
+                let scn = loaded.world.scenario();
+                let final_step = scn.planner.resolution / f64::from(1u32 << planned.refinements);
+                eprintln!(
+                    "note: at resolution {:.3}° a planned motion touched objects between its checks; planned again at {:.3}°",
+                    scn.planner.resolution.to_degrees(),
+                    final_step.to_degrees()
+                );
+            }
+            Ok((loaded, planned))
+        }
+        Err(violations) => {
+            for v in &violations {
+                eprintln!("violation: {v}");
+            }
+            eprintln!(
+                "error: internal: the planned schedule failed independent verification ({} violations); nothing written. Please report this scenario.",
+                violations.len()
+            );
+            Err(EXIT_INPUT)
+        }
+    }
+}
+
+/// A plan that passed verification, or an infeasible one.
+pub struct Planned {
+    pub solution: Solution,
+    pub schedule: Schedule,
+    /// How many times the resolution was halved before the schedule verified.
+    pub refinements: u32,
+}
+
+/// The planner checks straight motions every `resolution`; the verifier every quarter of
+/// it, so a thin gap the planner stepped over can fail verification. Planning again at
+/// half and then a quarter of the step makes the planner's checks those of the verifier.
+const MAX_REFINEMENTS: u32 = 2;
+
+/// Plans a built world (one PRMwO planner over every robot, then the AND/OR graph) and
+/// verifies the schedule, refining the resolution when verification fails. This is all
+/// of `compile` between loading and writing.
+/// `progress` is told each phase as it starts.
+pub fn plan_verified(world: &World, progress: &dyn Fn(&str)) -> Result<Planned, Vec<verify::Violation>> {
+    let scn = world.scenario();
+    let mut refinements = 0;
+    loop {
+        let mut settings = scn.planner.clone();
+        settings.resolution /= f64::from(1u32 << refinements);
+        progress(&format!("planning at resolution {:.3}°", settings.resolution.to_degrees()));
+        let planner = Planner::new(world, &settings);
+        let solution = andor::solve(scn, &planner);
+        let schedule = schedule::build(scn, &solution);
+        if schedule.status != Status::Solved {
+            return Ok(Planned { solution, schedule, refinements });
+        }
+        progress("verifying the schedule");
+        match verify::verify(world, &schedule) {
+            Ok(_) => return Ok(Planned { solution, schedule, refinements }),
+            Err(v) if refinements >= MAX_REFINEMENTS => return Err(v),
+            Err(_) => refinements += 1,
+        }
+    }
 }
 
 fn parse_objective(s: Option<&str>) -> Option<Objective> {
@@ -55,43 +132,45 @@ pub fn stats_table(stats: &[QueryStat]) -> String {
     out
 }
 
-/// Writes `text` to `out` (via a temporary file renamed into place, so a failure never
-/// leaves half a schedule) or to stdout.
+/// Writes `text` to `out` or to stdout. A regular file is written to a temporary file
+/// renamed into place, so a failure never leaves half a schedule; a symbolic link is
+/// followed, so the file it names is replaced, not the link.
 fn write_output(text: &str, out: Option<&Path>) -> std::io::Result<()> {
-    match out {
-        None => std::io::stdout().lock().write_all(text.as_bytes()),
-        Some(path) => {
-            let tmp = path.with_extension("declutter-tmp");
-            std::fs::write(&tmp, text)?;
-            std::fs::rename(&tmp, path).inspect_err(|_| {
-                let _ = std::fs::remove_file(&tmp);
-            })
-        }
+    let Some(path) = out else {
+        return std::io::stdout().lock().write_all(text.as_bytes());
+    };
+    let target = match std::fs::metadata(path) {
+        // `/dev/null`, a FIFO, a terminal: a rename would put a regular file in the
+        // device's place (as root, that breaks the whole machine), so write in place.
+        Ok(meta) if !meta.is_file() && !meta.is_dir() => return std::fs::write(path, text),
+        Ok(_) => std::fs::canonicalize(path)?,
+        Err(_) => path.to_path_buf(),
+    };
+    let tmp = temp_path(&target);
+    let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, &target));
+    // Also after a partial write: no temporary file is left behind.
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
+    written
+}
+
+/// A temporary name next to `path` (a rename stays on one file system), hidden, and
+/// unique per target file and process: `a.yaml` and `a.json`, or two runs, never share it.
+pub(super) fn temp_path(path: &Path) -> std::path::PathBuf {
+    let name = path.file_name().map_or_else(|| "schedule".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.declutter-tmp-{}", std::process::id()))
 }
 
 pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
-    let (loaded, solution) = match plan(file, g, o.seed, parse_objective(o.objective.as_deref())) {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
-    let scn = loaded.world.scenario();
-    let schedule: Schedule = schedule::build(scn, &solution);
+    // The promise is a verified schedule: `plan` re-checks a solved one before it is written.
+    let (loaded, Planned { solution, schedule, .. }) =
+        match plan(file, g, o.seed, parse_objective(o.objective.as_deref())) {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     if o.stats {
         eprint!("{}", stats_table(&schedule.stats));
-    }
-    // The promise is a verified schedule: a solved one is re-checked before it is written.
-    if schedule.status == Status::Solved {
-        if let Err(violations) = verify::verify(&loaded.world, &schedule) {
-            for v in &violations {
-                eprintln!("violation: {v}");
-            }
-            eprintln!(
-                "error: internal: the planned schedule failed independent verification ({} violations); nothing written. Please report this scenario.",
-                violations.len()
-            );
-            return EXIT_INPUT;
-        }
     }
     let text = match o.format {
         Format::Yaml => schedule::to_yaml(&schedule),
@@ -115,11 +194,34 @@ pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
     }
 }
 
-pub fn graph(file: &Path, g: &GlobalOptions, seed: Option<u64>) -> u8 {
-    let (loaded, solution) = match plan(file, g, seed, None) {
+/// `declutter graph`: G in DOT on stdout, also for an infeasible scenario (it shows
+/// why), which then reports the reason and exits 2 like `compile`.
+pub fn graph(file: &Path, g: &GlobalOptions, o: &GraphOptions) -> u8 {
+    let (loaded, planned) = match plan(file, g, o.seed, parse_objective(o.objective.as_deref())) {
         Ok(x) => x,
         Err(code) => return code,
     };
-    print!("{}", schedule::to_dot(loaded.world.scenario(), &solution));
-    EXIT_OK
+    print!("{}", schedule::to_dot(loaded.world.scenario(), &planned.solution));
+    match &planned.solution.outcome {
+        Ok(_) => EXIT_OK,
+        Err(why) => {
+            eprint!("{}", render_one(&loaded.sources, why, render_options(g)));
+            EXIT_INFEASIBLE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::temp_path;
+    use std::path::Path;
+
+    #[test]
+    fn temporary_names_differ_per_target_file() {
+        let pid = std::process::id();
+        let yaml = temp_path(Path::new("out/a.yaml"));
+        assert_eq!(yaml, Path::new(&format!("out/.a.yaml.declutter-tmp-{pid}")));
+        assert_ne!(yaml, temp_path(Path::new("out/a.json")));
+        assert_eq!(temp_path(Path::new("a")), Path::new(&format!(".a.declutter-tmp-{pid}")));
+    }
 }

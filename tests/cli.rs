@@ -1,0 +1,239 @@
+//! The `declutter` binary end to end: exit codes (0 ok, 1 input or usage error or an
+//! invalid schedule, 2 infeasible), `--out`, `verify` and `graph` on shipped examples.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use declutter::driver::parse_schedule;
+use declutter::schedule;
+
+/// Runs the binary from the crate root, without colour.
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_declutter"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("NO_COLOR", "1")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("the declutter binary runs")
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited with a code")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// An empty directory of this test's own, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("declutter-cli-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp dir is created");
+        TempDir(dir)
+    }
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).display().to_string()
+    }
+    /// File names in the directory, sorted (hidden temporary files included).
+    fn files(&self) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(&self.0)
+            .expect("temp dir is readable")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+    /// Output with the directory's path replaced by `[dir]`, for snapshots.
+    fn mask(&self, text: &str) -> String {
+        text.replace(&self.0.display().to_string(), "[dir]")
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn compile_writes_out_and_verify_accepts_it_in_both_formats() {
+    let dir = TempDir::new("compile-ok");
+    let (yaml, json) = (dir.path("a.yaml"), dir.path("a.json"));
+    let o = run(&["compile", "examples/box_lid.dcl", "--out", &yaml]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(stdout(&o), "", "with --out, nothing goes to stdout");
+    let o = run(&["compile", "examples/box_lid.dcl", "--format", "json", "--out", &json]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    // Both written, no temporary file left behind.
+    assert_eq!(dir.files(), ["a.json", "a.yaml"]);
+    for file in [&yaml, &json] {
+        let o = run(&["verify", "examples/box_lid.dcl", file]);
+        assert_eq!(code(&o), 0, "{}", stderr(&o));
+        assert!(stderr(&o).starts_with(&format!("ok: {file} verified — 2 actions, ")), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn verify_exits_1_with_the_violation_on_a_tampered_schedule() {
+    let dir = TempDir::new("tampered");
+    let file = dir.path("a.yaml");
+    let o = run(&["compile", "examples/box_lid.dcl", "--out", &file]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = std::fs::read_to_string(&file).expect("schedule written");
+    let mut s = parse_schedule(&text).expect("the schedule reads back");
+    // Shoulder far forward, elbow stretched: the arm lies on the table.
+    s.actions[0].approach.insert(1, vec![0.0, 2.2, 0.3, 0.0, 0.0, 0.0]);
+    std::fs::write(&file, schedule::to_yaml(&s).expect("YAML")).expect("tampered schedule written");
+    let o = run(&["verify", "examples/box_lid.dcl", &file]);
+    assert_eq!(code(&o), 1);
+    assert_eq!(stdout(&o), "");
+    insta::assert_snapshot!("verify_table_waypoint", dir.mask(&stderr(&o)));
+}
+
+#[test]
+fn compile_of_an_infeasible_scenario_exits_2_with_the_reason() {
+    let dir = TempDir::new("infeasible");
+    let file = dir.path("w.yaml");
+    let o = run(&["compile", "examples/walled.dcl", "--out", &file]);
+    assert_eq!(code(&o), 2);
+    insta::assert_snapshot!("compile_walled_stderr", stderr(&o));
+    // The infeasible schedule is still written; it carries the reason.
+    let s = parse_schedule(&std::fs::read_to_string(&file).expect("written")).expect("reads back");
+    assert_eq!(s.status, schedule::Status::Infeasible);
+    assert!(s.reason.is_some());
+    // And `verify` rejects it.
+    let o = run(&["verify", "examples/walled.dcl", &file]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("violation: schedule: the schedule is not solved"), "{}", stderr(&o));
+}
+
+#[test]
+fn compile_input_errors_exit_1_and_write_nothing() {
+    let dir = TempDir::new("input-error");
+    let missing = dir.path("missing.dcl");
+    let o = run(&["compile", &missing, "--out", &dir.path("a.yaml")]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("error: 1 problem found"), "{}", stderr(&o));
+    assert!(dir.files().is_empty(), "{:?}", dir.files());
+    // A directory that does not exist: the write fails, and nothing is left.
+    let o = run(&["compile", "examples/box_lid.dcl", "--out", &dir.path("no/such/dir/a.yaml")]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("error: cannot write the schedule to "), "{}", stderr(&o));
+    assert!(dir.files().is_empty(), "{:?}", dir.files());
+    // `--out` names a directory: the rename fails after the write; the temporary file goes.
+    std::fs::create_dir(dir.0.join("taken")).expect("dir created");
+    let o = run(&["compile", "examples/box_lid.dcl", "--out", &dir.path("taken")]);
+    assert_eq!(code(&o), 1);
+    assert_eq!(dir.files(), ["taken"]);
+}
+
+#[test]
+fn out_to_a_fifo_writes_through_it_and_leaves_it_a_fifo() {
+    use std::os::unix::fs::FileTypeExt;
+    // `-o /dev/null` is in the book: a special file must be written in place, never
+    // replaced by a renamed regular file. A FIFO stands in for the device here.
+    let dir = TempDir::new("fifo");
+    let fifo = dir.path("pipe");
+    let c_path = std::ffi::CString::new(fifo.clone()).expect("no NUL in the path");
+    // SAFETY: a valid NUL-terminated path; mkfifo only creates a directory entry.
+    assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0, "mkfifo");
+    // A second name for the FIFO: if `pipe` were replaced, the reader could still be
+    // released through it, so a regression fails instead of hanging.
+    let spare = dir.path("spare");
+    std::fs::hard_link(&fifo, &spare).expect("hard link");
+    let reader = {
+        let spare = spare.clone();
+        std::thread::spawn(move || std::fs::read_to_string(spare).expect("the FIFO is readable"))
+    };
+    let o = run(&["compile", "examples/box_lid.dcl", "-o", &fifo]);
+    let kind = std::fs::symlink_metadata(&fifo).expect("still there").file_type();
+    if !kind.is_fifo() {
+        drop(std::fs::OpenOptions::new().write(true).open(&spare));
+    }
+    let text = reader.join().expect("reader thread");
+    assert!(kind.is_fifo(), "the FIFO was replaced: {kind:?}");
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(text.starts_with("scenario: box-lid\n"), "{text}");
+    assert_eq!(dir.files(), ["pipe", "spare"], "no temporary file left");
+}
+
+#[test]
+fn out_through_a_symlink_replaces_the_file_it_names_not_the_link() {
+    let dir = TempDir::new("symlink");
+    std::fs::create_dir(dir.0.join("real")).expect("dir created");
+    std::fs::write(dir.0.join("real/a.yaml"), "old").expect("old file");
+    std::os::unix::fs::symlink(dir.0.join("real/a.yaml"), dir.0.join("link.yaml")).expect("symlink");
+    let o = run(&["compile", "examples/box_lid.dcl", "-o", &dir.path("link.yaml")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let link = std::fs::symlink_metadata(dir.0.join("link.yaml")).expect("link still there");
+    assert!(link.file_type().is_symlink(), "the link was replaced by a file");
+    let text = std::fs::read_to_string(dir.0.join("real/a.yaml")).expect("target readable");
+    assert!(text.starts_with("scenario: box-lid\n"), "{text}");
+    assert_eq!(dir.files(), ["link.yaml", "real"]);
+}
+
+#[test]
+fn graph_of_a_solved_example_exits_0() {
+    let o = run(&["graph", "examples/box_lid.dcl"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("digraph"), "{}", stdout(&o));
+    assert_eq!(stderr(&o), "");
+    // The planning overrides of `compile` are accepted.
+    let o = run(&["graph", "examples/reach_pose.dcl", "--seed", "3", "--objective", "fewest_vertices"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stdout(&o).starts_with("digraph"), "{}", stdout(&o));
+}
+
+#[test]
+fn graph_of_an_infeasible_example_prints_it_and_the_reason_and_exits_2() {
+    let o = run(&["graph", "examples/walled.dcl"]);
+    assert_eq!(code(&o), 2);
+    assert!(stdout(&o).starts_with("digraph"), "{}", stdout(&o));
+    // The same reason as `compile` gives.
+    let c = run(&["compile", "examples/walled.dcl"]);
+    assert_eq!(stderr(&o), stderr(&c));
+}
+
+#[test]
+fn usage_errors_exit_1_and_help_and_version_exit_0() {
+    for args in [
+        &[][..],
+        &["compile"][..],
+        &["compile", "examples/box_lid.dcl", "--bogus"][..],
+        &["verify", "examples/box_lid.dcl"][..],
+        &["frobnicate"][..],
+    ] {
+        let o = run(args);
+        assert_eq!(code(&o), 1, "{args:?}: {}", stderr(&o));
+        assert_eq!(stdout(&o), "", "{args:?}");
+        assert!(stderr(&o).contains("Usage: declutter"), "{args:?}: {}", stderr(&o));
+    }
+    for args in [&["--help"][..], &["compile", "--help"][..], &["--version"][..]] {
+        let o = run(args);
+        assert_eq!(code(&o), 0, "{args:?}: {}", stderr(&o));
+        assert!(!stdout(&o).is_empty(), "{args:?}");
+    }
+    // A bad value is a usage error too.
+    let o = run(&["compile", "examples/box_lid.dcl", "--objective", "fastest"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).starts_with("error: invalid value 'fastest' for '--objective"), "{}", stderr(&o));
+}
+
+#[test]
+fn help_describes_every_argument() {
+    let o = run(&["verify", "--help"]);
+    assert_eq!(code(&o), 0);
+    insta::assert_snapshot!("verify_help", stdout(&o));
+    let o = run(&["graph", "--help"]);
+    assert_eq!(code(&o), 0);
+    insta::assert_snapshot!("graph_help", stdout(&o));
+}
