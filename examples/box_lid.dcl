@@ -19,6 +19,7 @@ object lid at (55cm, 0, 20.5cm) {
     box(12cm, 2cm, 2cm) at (0, 0, 1.5cm)                 // the handle
     grasp middle at (0, 0, 2.5cm) rot (180deg, 0, 0) approach 6cm repeat 2 about z
     grasp left   at (-4cm, 0, 2.5cm) rot (180deg, 0, 0) approach 6cm repeat 2 about z for sah, sdh2
+    grasp right  at (4cm, 0, 2.5cm) rot (180deg, 0, 0) approach 6cm repeat 2 about z
 }
 
 target can
