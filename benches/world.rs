@@ -8,14 +8,18 @@
 use std::hint::black_box;
 use std::path::PathBuf;
 
-use criterion::measurement::{Measurement, ValueFormatter};
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::measurement::Measurement;
+use criterion::{criterion_group, criterion_main, Criterion};
 use declutter::diag::{FileId, FsLoader, Span};
 use declutter::resolve::*;
 use declutter::world::{build, CheckCtx, World, WorldOptions};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+#[path = "support/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::CpuTime;
 
 fn at(x: f64, y: f64, z: f64) -> Pose {
     Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
@@ -50,7 +54,7 @@ fn world(objects: usize) -> World {
         pose_world_base: Pose::identity(),
         hand: Some(HandId(0)),
         flange: None,
-        home: JointValues { values: home, span: Span::default() },
+        home: JointValues { values: home, span: Span::default(), units: Vec::new() },
         drop: None,
         allow_contact: vec![],
     };
@@ -87,59 +91,11 @@ fn configs(w: &World) -> Vec<Vec<f64>> {
     (0..256).map(|_| lim.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect()).collect()
 }
 
-/// Nanoseconds this thread has run on a CPU.
-fn thread_cpu_ns() -> u64 {
-    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: `t` is a valid timespec the call writes into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
-}
-
-struct ThreadCpu;
-struct Micros;
-
-impl ValueFormatter for Micros {
-    fn scale_values(&self, _typical: f64, values: &mut [f64]) -> &'static str {
-        values.iter_mut().for_each(|v| *v /= 1000.0);
-        "µs (thread CPU)"
-    }
-    fn scale_throughputs(&self, _typical: f64, _t: &Throughput, _values: &mut [f64]) -> &'static str {
-        "ns"
-    }
-    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
-        "ns"
-    }
-}
-
-impl Measurement for ThreadCpu {
-    type Intermediate = u64;
-    type Value = u64;
-    fn start(&self) -> u64 {
-        thread_cpu_ns()
-    }
-    fn end(&self, i: u64) -> u64 {
-        thread_cpu_ns().saturating_sub(i)
-    }
-    fn add(&self, a: &u64, b: &u64) -> u64 {
-        a + b
-    }
-    fn zero(&self) -> u64 {
-        0
-    }
-    fn to_f64(&self, v: &u64) -> f64 {
-        *v as f64
-    }
-    fn formatter(&self) -> &dyn ValueFormatter {
-        &Micros
-    }
-}
-
 fn bench_wall(c: &mut Criterion) {
     bench(c, "")
 }
 
-fn bench_cpu(c: &mut Criterion<ThreadCpu>) {
+fn bench_cpu(c: &mut Criterion<CpuTime>) {
     bench(c, "cpu_")
 }
 
@@ -179,7 +135,7 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
 criterion_group!(wall, bench_wall);
 criterion_group! {
     name = cpu;
-    config = Criterion::default().with_measurement(ThreadCpu);
+    config = Criterion::default().with_measurement(CpuTime::thread());
     targets = bench_cpu
 }
 criterion_main!(wall, cpu);
