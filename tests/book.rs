@@ -1,10 +1,16 @@
-//! Every ```dcl block in the book passes `check` against the files in `examples/` (or,
-//! with ```dcl,error=CODE, fails with that code); the language reference covers every
-//! construct and lists every diagnostic code.
+//! Every ```dcl block in the book passes the same full check as `declutter check`
+//! (parse, resolve, load every URDF and mesh, build the world, and no object that no
+//! robot can grasp), against the files in `examples/`; or, with ```dcl,error=CODE, fails
+//! with that code; ```dcl,warn=declutter::world::ungraspable marks a block on which
+//! `check` succeeds but warns that no robot can grasp some object. A library block (no target) is checked through a probe scenario that
+//! `use`s it, so its URDFs and meshes are loaded too. ```dcl,link=NAME:DIR checks the
+//! block with `NAME` pointing at DIR (relative to the repository) instead of
+//! `examples/NAME`, and is skipped, with the reason printed, when DIR is absent.
+//! The language reference covers every construct and lists every diagnostic code.
 
 use std::path::{Path, PathBuf};
 
-use declutter::diag::{MemLoader, SourceMap};
+use declutter::diag::{render_all, FsLoader, RenderOptions, SourceMap};
 use declutter::resolve;
 
 struct Block {
@@ -12,17 +18,8 @@ struct Block {
     line: usize,
     text: String,
     error: Option<String>,
-}
-
-fn add_dir(l: &mut MemLoader, dir: &Path) {
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            add_dir(l, &p);
-        } else {
-            l.insert(&p, std::fs::read(&p).unwrap());
-        }
-    }
+    warn: Option<String>,
+    link: Option<(String, String)>,
 }
 
 /// Expands mdbook's `{{#include PATH}}` (relative to the page) in a block.
@@ -51,7 +48,19 @@ fn blocks() -> Vec<Block> {
             match (&mut current, line.strip_prefix("```")) {
                 (None, Some(info)) if info.split(',').next() == Some("dcl") => {
                     let error = info.split(',').find_map(|p| p.strip_prefix("error=")).map(str::to_string);
-                    current = Some(Block { page: page.display().to_string(), line: i + 1, text: String::new(), error });
+                    let warn = info.split(',').find_map(|p| p.strip_prefix("warn=")).map(str::to_string);
+                    let link = info.split(',').find_map(|p| p.strip_prefix("link=")).map(|l| {
+                        let (name, dir) = l.split_once(':').expect("link=NAME:DIR");
+                        (name.to_string(), dir.to_string())
+                    });
+                    current = Some(Block {
+                        page: page.display().to_string(),
+                        line: i + 1,
+                        text: String::new(),
+                        error,
+                        warn,
+                        link,
+                    });
                 }
                 (Some(_), Some("")) => {
                     let mut b = current.take().unwrap();
@@ -70,33 +79,121 @@ fn blocks() -> Vec<Block> {
     out
 }
 
+/// A scratch folder that looks like `examples/`: a symbolic link to every entry of
+/// `examples/` (or to the block's `link=` target), so that relative paths in a block
+/// resolve as they would next to the shipped scenarios. Removed on drop.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(n: usize, link: Option<&(String, String)>) -> Scratch {
+        let root = std::env::current_dir().unwrap();
+        let dir = root.join("target").join(format!("book-blocks-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        for e in std::fs::read_dir(root.join("examples")).unwrap().flatten() {
+            if link.is_some_and(|(name, _)| e.file_name() == name.as_str()) {
+                continue;
+            }
+            std::os::unix::fs::symlink(e.path(), dir.join(e.file_name())).unwrap();
+        }
+        if let Some((name, target)) = link {
+            std::os::unix::fs::symlink(root.join(target), dir.join(name)).unwrap();
+        }
+        Scratch(dir)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs `declutter check`'s pipeline on `file`: Ok with the warnings `check` would print
+/// (objects no robot can grasp), or the rendered report and the codes.
+fn full_check(file: &Path, dir: &Path) -> Result<Vec<String>, (String, Vec<String>)> {
+    let mut sources = SourceMap::new();
+    let summary = match resolve::check(file, &FsLoader, &mut sources) {
+        Ok(s) => s,
+        Err(errs) => {
+            let codes = errs.iter().map(|e| e.code_str()).collect();
+            return Err((render_all(&sources, &errs, RenderOptions::plain()), codes));
+        }
+    };
+    // A library is checked through a probe scenario that uses it and adds a target (and
+    // an arm, when it has none, so that its hands are attached to something).
+    let root = if summary.library {
+        let probe = dir.join("__probe.dcl");
+        let mut text = format!("use \"{}\"\n", file.file_name().unwrap().to_str().unwrap());
+        if summary.robots == 0 {
+            text.push_str("robot __probe_arm { urdf \"robots/planar3.urdf\" base at (20m, 20m, 0) home [0, 0, 0] }\n");
+        }
+        text.push_str("object __probe sphere(radius: 1cm) at (30m, 30m, 30m)\ntarget __probe\n");
+        std::fs::write(&probe, text).unwrap();
+        probe
+    } else {
+        file.to_path_buf()
+    };
+    let mut sources = SourceMap::new();
+    let scn = match resolve::resolve(&root, &FsLoader, &mut sources) {
+        Ok(s) => s,
+        Err(errs) => {
+            let codes = errs.iter().map(|e| e.code_str()).collect();
+            return Err((render_all(&sources, &errs, RenderOptions::plain()), codes));
+        }
+    };
+    let w = match declutter::world::build(&scn, &declutter::world::WorldOptions::default(), &FsLoader) {
+        Ok(w) => w,
+        Err(errs) => {
+            let codes =
+                errs.iter().map(|e| miette::Diagnostic::code(e).map(|c| c.to_string()).unwrap_or_default()).collect();
+            return Err((render_all(&sources, &errs, RenderOptions::plain()), codes));
+        }
+    };
+    let report = declutter::world::report(&w);
+    let unreachable: Vec<String> =
+        report.unreachable().filter(|o| o.name != "__probe").map(|o| o.name.clone()).collect();
+    Ok(unreachable)
+}
+
 #[test]
 fn every_dcl_block_checks() {
     let blocks = blocks();
     assert!(blocks.len() >= 15, "only {} dcl blocks", blocks.len());
-    let mut base = MemLoader::new();
-    add_dir(&mut base, Path::new("examples"));
-    for b in &blocks {
-        let mut l = base.clone();
-        let root = Path::new("examples/__book_block.dcl");
-        l.insert(root, b.text.clone());
-        let mut sources = SourceMap::new();
-        let result = resolve::check(root, &l, &mut sources);
-        match (&b.error, result) {
-            (None, Ok(_)) => {}
-            (None, Err(errs)) => panic!(
-                "{}:{}: block should check, got:\n{}",
-                b.page,
-                b.line,
-                declutter::diag::render_all(&sources, &errs, declutter::diag::RenderOptions::plain())
-            ),
-            (Some(code), Ok(_)) => panic!("{}:{}: block should fail with {code}", b.page, b.line),
-            (Some(code), Err(errs)) => {
-                let codes: Vec<String> = errs.iter().map(|e| e.code_str()).collect();
-                assert!(codes.contains(code), "{}:{}: expected {code}, got {codes:?}", b.page, b.line);
+    let mut failures = Vec::new();
+    for (n, b) in blocks.iter().enumerate() {
+        if let Some((_, target)) = &b.link {
+            if !Path::new(target).is_dir() {
+                eprintln!("{}:{}: skipped: {target} is absent (the block needs it)", b.page, b.line);
+                continue;
+            }
+        }
+        let scratch = Scratch::new(n, b.link.as_ref());
+        let file = scratch.0.join("__book_block.dcl");
+        std::fs::write(&file, &b.text).unwrap();
+        match (&b.error, full_check(&file, &scratch.0)) {
+            (None, Ok(unreachable)) => {
+                let expected = b.warn.as_deref() == Some("declutter::world::ungraspable");
+                if unreachable.is_empty() == expected {
+                    failures.push(format!(
+                        "{}:{}: no robot can grasp {unreachable:?} (`check` warns declutter::world::ungraspable); \
+                         the block must say warn=declutter::world::ungraspable exactly when it does",
+                        b.page, b.line
+                    ));
+                }
+            }
+            (None, Err((report, _))) => {
+                failures.push(format!("{}:{}: block should check, got:\n{report}", b.page, b.line))
+            }
+            (Some(code), Ok(_)) => failures.push(format!("{}:{}: block should fail with {code}", b.page, b.line)),
+            (Some(code), Err((report, codes))) => {
+                if !codes.contains(code) {
+                    failures.push(format!("{}:{}: expected {code}, got {codes:?}:\n{report}", b.page, b.line));
+                }
             }
         }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
@@ -171,4 +268,34 @@ fn reference_lists_every_diagnostic_code() {
         }
     }
     assert!(n >= 25);
+}
+
+/// Tutorial 3 shows the graph of `examples/box_lid.dcl` from a committed DOT file, as
+/// text, inside an `<object>` that shows the SVG `book/tools/render_graph.sh` draws into
+/// the untracked `figures/generated/` when Graphviz is present. The DOT must be what
+/// `declutter graph` prints today, and the script must write no tracked file unless it
+/// changed.
+#[test]
+fn tutorial_3_graph_is_current() {
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(Path::new("examples/box_lid.dcl"), &FsLoader, &mut sources)
+        .expect("box_lid resolves");
+    let w = declutter::world::build(&scn, &declutter::world::WorldOptions::default(), &FsLoader)
+        .expect("box_lid world builds");
+    let planned = declutter::driver::plan_verified(&w, &|_| {}).expect("box_lid verifies");
+    let dot = declutter::schedule::to_dot(w.scenario(), &planned.solution);
+    let committed = std::fs::read_to_string("book/src/figures/box_lid_graph.dot").expect("figure exists");
+    assert_eq!(committed, dot, "book/src/figures/box_lid_graph.dot is stale: run book/tools/render_graph.sh");
+    let fragment = std::fs::read_to_string("book/src/figures/box_lid_graph.md").expect("fragment exists");
+    assert_eq!(fragment, format!("```dot\n{dot}```\n"), "book/src/figures/box_lid_graph.md is stale");
+    let page = std::fs::read_to_string("book/src/reading-the-graph.md").unwrap();
+    let object = page.find("<object data=\"figures/generated/box_lid_graph.svg\"").expect("the page shows the SVG");
+    let include = page.find("{{#include figures/box_lid_graph.md}}").expect("the page falls back to the DOT text");
+    let close = page.find("</object>").expect("the fallback is inside the <object>");
+    assert!(object < include && include < close);
+    let script = std::fs::read_to_string("book/tools/render_graph.sh").unwrap();
+    assert!(script.contains("dot -Tsvg \"$gen/box_lid_graph.dot\" > \"$gen/box_lid_graph.svg\""), "{script}");
+    assert!(script.contains("cmp -s"), "tracked figures are rewritten only when they changed");
+    let ignore = std::fs::read_to_string(".gitignore").unwrap();
+    assert!(ignore.lines().any(|l| l == "/book/src/figures/generated/"), "the generated SVG is not tracked");
 }
