@@ -8,6 +8,7 @@ use std::path::Path;
 
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::driver::{stats_table, Planned};
+use declutter::resolve::Objective;
 use declutter::schedule::{self, Schedule, Status};
 use declutter::verify;
 use declutter::world::{self, World, WorldOptions};
@@ -16,10 +17,18 @@ use declutter::world::{self, World, WorldOptions};
 /// `compile` does (no command-line overrides). Every example must verify at its own
 /// resolution: the planner's certification, not a re-plan, makes it so.
 fn compile_full(name: &str) -> (World, Planned) {
+    compile_as(name, None)
+}
+
+/// `compile_full`, with the scenario's objective replaced as `--objective` does.
+fn compile_as(name: &str, objective: Option<Objective>) -> (World, Planned) {
     let path = format!("examples/{name}.dcl");
     let mut sources = SourceMap::new();
-    let scn = declutter::resolve::resolve(Path::new(&path), &FsLoader, &mut sources)
+    let mut scn = declutter::resolve::resolve(Path::new(&path), &FsLoader, &mut sources)
         .unwrap_or_else(|e| panic!("{path}: {e:?}"));
+    if let Some(o) = objective {
+        scn.planner.objective = o;
+    }
     let world = world::build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{path}: {e:?}"));
     let planned = match declutter::driver::plan_verified(&world, &|_| {}) {
         Ok(p) => p,
@@ -273,5 +282,67 @@ fn schedules_do_not_depend_on_thread_count() {
         let one = run(1);
         assert_eq!(one, run(2), "{name}: 1 vs 2 threads");
         assert_eq!(one, run(4), "{name}: 1 vs 4 threads");
+    }
+}
+
+/// The rows `P(ROBOT, OBJECT)` of `section` of a page: the query and the last four cells
+/// (samples, connected, paths, checks).
+fn figure_rows(section: &str) -> Vec<(String, [u64; 4])> {
+    section
+        .lines()
+        .filter(|l| l.starts_with('|'))
+        .filter_map(|l| {
+            let start = l.find("P(r")?;
+            let query = &l[start..start + l[start..].find(')')? + 1];
+            let cells: Vec<&str> = l.trim_matches('|').split('|').map(str::trim).collect();
+            let last: Vec<u64> =
+                cells[cells.len().checked_sub(4)?..].iter().map(|c| c.parse().ok()).collect::<Option<_>>()?;
+            Some((query.to_string(), [last[0], last[1], last[2], last[3]]))
+        })
+        .collect()
+}
+
+/// "Our figures" in the book's Reproducing the paper page: every column but the time is
+/// deterministic, so each table must be what `compile --stats --objective
+/// fewest_vertices` gives today, row for row.
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn paper_page_figures_are_current() {
+    let page = std::fs::read_to_string("book/src/paper.md").expect("the page exists");
+    let ours = &page[page.find("## Our figures").expect("the section exists")..];
+    let ours = &ours[..ours[3..].find("\n## ").map_or(ours.len(), |i| i + 3)];
+    for name in ["box_lid", "cans_3", "cans_5"] {
+        let marker = format!("(`examples/{name}.dcl`");
+        let start = ours.find(&marker).unwrap_or_else(|| panic!("no table for {name}"));
+        let rest = &ours[start..];
+        let end = rest[1..].find("(`examples/").map_or(rest.len(), |i| i + 1);
+        let rows = figure_rows(&rest[..end]);
+
+        let (_, planned) = compile_as(name, Some(Objective::FewestVertices));
+        let want: Vec<(String, [u64; 4])> = planned
+            .schedule
+            .stats
+            .iter()
+            .map(|s| (format!("P({}, {})", s.robot, s.object), [s.samples, s.connected, s.paths, s.checks]))
+            .collect();
+        assert_eq!(rows, want, "book/src/paper.md, {name}: regenerate with the commands on the page");
+    }
+}
+
+/// The book's claim (Reproducing the paper): on the paper's three examples the two
+/// objectives give the same schedule but for the `objective` field and the statistics.
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn paper_examples_agree_under_both_objectives() {
+    for name in ["box_lid", "cans_3", "cans_5"] {
+        let run = |objective: Objective| {
+            let mut s = compile_as(name, Some(objective)).1.schedule;
+            s.stats.clear();
+            s
+        };
+        let (vertices, mut removals) = (run(Objective::FewestVertices), run(Objective::FewestRemovals));
+        assert_ne!(vertices.objective, removals.objective);
+        removals.objective = vertices.objective;
+        assert_eq!(schedule::to_yaml(&vertices).unwrap(), schedule::to_yaml(&removals).unwrap(), "{name}");
     }
 }
