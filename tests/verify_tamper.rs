@@ -190,3 +190,111 @@ fn a_broken_waypoint_is_reported_once_without_follow_on_violations() {
     s.actions[1].approach[1].push(0.0);
     assert_eq!(messages(&w, &s), ["action 2, approach waypoint 1: has 7 joint values; the robot has 6 joints"]);
 }
+
+/// The index of the pre-grasp (the last approach waypoint but one) of action `i`.
+fn pre_grasp(s: &Schedule, i: usize) -> usize {
+    s.actions[i].approach.len() - 2
+}
+
+#[test]
+fn a_sideways_swing_into_the_grasp_is_caught() {
+    let (w, mut s) = compiled("examples/box_lid.dcl");
+    assert_eq!(s.actions[1].object.as_deref(), Some("can"));
+    // Swing the base joint 0.3 rad at the pre-grasp: the hand then sweeps sideways
+    // through the can's place on its last segment, where the can is ignored.
+    let p = pre_grasp(&s, 1);
+    s.actions[1].approach[p][0] += 0.3;
+    s.actions[1].retreat[1][0] += 0.3;
+    let v = verify::verify(&w, &s).expect_err("the swing must not verify");
+    let crooked: Vec<_> = v
+        .iter()
+        .filter_map(|v| match &v.kind {
+            ViolationKind::CrookedApproach { deviation, .. } => Some((v.location.clone(), *deviation)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(crooked.len(), 1, "{v:?}");
+    assert_eq!(crooked[0].0, verify::Location::Segment { action: 2, phase: Phase::Approach, index: p });
+    // The TCP is about 0.55 m from the base axis: a 0.3 rad swing moves it ~16 cm aside.
+    assert!(crooked[0].1.off_line > 0.10, "{:?}", crooked[0].1);
+}
+
+#[test]
+fn turning_the_hand_on_the_move_in_is_caught_beyond_two_degrees() {
+    let (w, s) = compiled("examples/box_lid.dcl");
+    let p = pre_grasp(&s, 1);
+    // Joint 6 turns the hand about the TCP's own z axis (the TCP lies on that axis): the
+    // TCP does not move, it only turns by the joint's change.
+    let turned = |deg: f64| {
+        let mut t = s.clone();
+        t.actions[1].approach[p][5] += deg.to_radians();
+        t.actions[1].retreat[1][5] += deg.to_radians();
+        t
+    };
+    let (ok, bad) = (turned(1.9), turned(2.1));
+    assert_eq!(messages(&w, &ok), Vec::<String>::new());
+    let v = verify::verify(&w, &bad).expect_err("2.1° is past the 2° allowed");
+    assert_eq!(v.len(), 1, "{v:?}");
+    let ViolationKind::CrookedApproach { grasp, deviation } = &v[0].kind else { panic!("{v:?}") };
+    assert_eq!(grasp, "top#2");
+    assert!((deviation.angle.to_degrees() - 2.1).abs() < 0.01, "{deviation:?}");
+    assert!(deviation.off_line < 2e-3, "{deviation:?}");
+    assert_eq!(
+        v[0].to_string(),
+        format!(
+            "action 2, approach segment {p}→{}: is not the straight move in to grasp `top#2`: the TCP strays \
+             {:.2} mm from the approach line, goes {:.2} mm past the grasp and turns 2.100° (allowed: 10 mm, \
+             2 mm, 2°); the object is an obstacle everywhere else",
+            p + 1,
+            deviation.off_line * 1e3,
+            deviation.overshoot * 1e3,
+        )
+    );
+}
+
+#[test]
+fn every_planned_move_in_is_straight() {
+    for file in ["examples/box_lid.dcl", "examples/cans_3.dcl", "examples/single_arm.dcl"] {
+        let (w, s) = compiled(file);
+        let scn = w.scenario();
+        for a in &s.actions {
+            let (Some(o), Some(g)) = (&a.object, &a.grasp) else { continue };
+            let grasp = scn.object(scn.object_by_name(o).unwrap()).grasps.iter().find(|x| &x.name == g).unwrap();
+            let r = scn.robot_by_name(&a.robot).unwrap();
+            let n = a.approach.len();
+            let d = w.approach_deviation(r, grasp, &a.approach[n - 2], &a.approach[n - 1], scn.planner.resolution);
+            assert!(d.is_straight(), "{file}, action {}: {d:?}", a.id);
+            // It starts at the stand-off: the TCP covers the whole approach distance.
+            let start = grasp.pose_world_tcp.inverse() * w.fk_tcp(r, &a.approach[n - 2]);
+            assert!((start.translation.vector.z + grasp.approach).abs() < 1e-3, "{file}, action {}", a.id);
+        }
+    }
+}
+
+#[test]
+fn a_reach_before_the_last_action_is_caught() {
+    let (w, mut s) = compiled("examples/reach_pose.dcl");
+    let reach = s.actions[1].clone();
+    let mut again = reach.clone();
+    again.id = 3;
+    s.actions.push(again);
+    assert_eq!(messages(&w, &s), ["action 2: a reach of the target configuration must be the last action"]);
+}
+
+#[test]
+fn an_action_waited_for_twice_is_caught() {
+    let (w, mut s) = compiled("examples/box_lid.dcl");
+    assert_eq!(s.actions[1].after, [1]);
+    s.actions[1].after.push(1);
+    assert_eq!(messages(&w, &s), ["action 2: lists action 1 twice in `after`"]);
+}
+
+#[test]
+fn a_huge_joint_value_is_printed_in_one_short_line() {
+    let (w, mut s) = compiled("examples/box_lid.dcl");
+    s.actions[0].approach[1][1] = 1e300;
+    assert_eq!(
+        messages(&w, &s),
+        ["action 1, approach waypoint 1: joint `joint_2` is 1.000000e300, outside its limits [-2.268928, 2.574361]"]
+    );
+}

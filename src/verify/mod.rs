@@ -6,15 +6,18 @@
 //! interpolated at a quarter of the planner's resolution — must be free of fixed
 //! bodies, of the other robots at home and of objects not yet removed, with the
 //! carried object attached on the way back until the drop configuration; each approach
-//! must end at its grasp (TCP within 1 mm and 0.5°), and the last action must grasp the
-//! target object or reach the target configuration. A reach has no grasp and no retreat.
-//! The schedule must name this scenario and its target.
+//! must end at its grasp (TCP within 1 mm and 0.5°). The grasped object is no obstacle
+//! on the approach's last segment only, and only if that segment is the straight move
+//! in: the TCP within 1 cm of the line from the stand-off to the grasp point, at most
+//! 2 mm past it, turned at most 2° from the grasp. The last action must grasp the target
+//! object or reach the target configuration; a reach has no grasp and no retreat and
+//! comes last. The schedule must name this scenario and its target.
 
 mod violation;
 
 pub use violation::{Location, Phase, Violation, ViolationKind};
 
-use crate::resolve::{ObjectId, RobotId, Target};
+use crate::resolve::{Grasp, ObjectId, RobotId, Target};
 use crate::schedule::{target_spec, Schedule, ScheduledAction, Status, TargetSpec};
 use crate::world::{Check, CheckCtx, ObjectSet, World};
 
@@ -76,15 +79,21 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
     let mut closure: Vec<(u32, Vec<u32>)> = Vec::new();
     let mut last_reached_target = false;
 
-    for a in &order {
+    for (k, a) in order.iter().enumerate() {
+        // A reach leaves its robot at the target, where no later action is checked against it.
+        if a.object.is_none() && k + 1 < order.len() {
+            out.push(Violation::at(a.id, ViolationKind::ReachNotLast));
+        }
         let robot = scn.robot_by_name(&a.robot);
         if robot.is_none() {
             out.push(Violation::at(a.id, ViolationKind::UnknownRobot { name: a.robot.clone() }));
         }
         // `after` must name earlier actions; its transitive closure is what this action may rely on.
         let mut waits: Vec<u32> = Vec::new();
-        for &dep in &a.after {
-            if dep >= a.id || !order.iter().any(|b| b.id == dep) {
+        for (k, &dep) in a.after.iter().enumerate() {
+            if a.after[..k].contains(&dep) {
+                out.push(Violation::at(a.id, ViolationKind::DuplicateAfter { dep }));
+            } else if dep >= a.id || !order.iter().any(|b| b.id == dep) {
                 out.push(Violation::at(a.id, ViolationKind::BadAfter { dep }));
             } else {
                 waits.push(dep);
@@ -181,9 +190,10 @@ fn check_action(
         }
     }
     let end_of_approach = a.approach.last();
+    let mut grasp = None;
     match (object, end_of_approach) {
         (_, None) => out.push(Violation::at(a.id, ViolationKind::EmptyApproach)),
-        (Some(o), Some(q_grasp)) => check_grasp(world, r, o, a, q_grasp, out),
+        (Some(o), Some(q_grasp)) => grasp = check_grasp(world, r, o, a, q_grasp, out),
         (None, Some(q_end)) => match &scn.target {
             Target::Config { robot, q, .. } if *robot == r && near(q_end, &q.values) => {}
             _ => out.push(Violation::at(a.id, ViolationKind::ReachNotTarget)),
@@ -225,8 +235,20 @@ fn check_action(
     };
     let n_approach = a.approach.len();
     for (i, w) in a.approach.windows(2).enumerate() {
-        // The grasped object is not an obstacle on the final straight approach only.
+        // The grasped object is not an obstacle on the final straight approach only (the
+        // closed hand's model overlaps it at the grasp), so that move must be straight.
         let last = i + 2 == n_approach;
+        if let (true, Some(g)) = (last, grasp) {
+            let d = world.approach_deviation(r, g, &w[0], &w[1], scope.resolution);
+            if !d.is_straight() {
+                out.push(Violation::segment(
+                    a.id,
+                    Phase::Approach,
+                    i,
+                    ViolationKind::CrookedApproach { grasp: g.name.clone(), deviation: d },
+                ));
+            }
+        }
         let ctx = CheckCtx::with_absent(absent(if last { object } else { None }));
         let res = world.check_motion(r, &w[0], &w[1], scope.resolution, &ctx);
         summary.checks += ctx.checks.get();
@@ -300,20 +322,28 @@ fn check_waypoints(world: &World, r: RobotId, a: &ScheduledAction, out: &mut Vec
     }
 }
 
-/// The approach must end with the TCP at the named grasp, which this robot's hand may use.
-fn check_grasp(world: &World, r: RobotId, o: ObjectId, a: &ScheduledAction, q: &[f64], out: &mut Vec<Violation>) {
+/// The approach must end with the TCP at the named grasp, which this robot's hand may
+/// use. Returns the grasp when it exists.
+fn check_grasp<'w>(
+    world: &'w World,
+    r: RobotId,
+    o: ObjectId,
+    a: &ScheduledAction,
+    q: &[f64],
+    out: &mut Vec<Violation>,
+) -> Option<&'w Grasp> {
     let scn = world.scenario();
     let obj = scn.object(o);
     let Some(name) = &a.grasp else {
         out.push(Violation::at(a.id, ViolationKind::MissingGrasp));
-        return;
+        return None;
     };
     let Some(grasp) = obj.grasps.iter().find(|g| &g.name == name) else {
         out.push(Violation::at(
             a.id,
             ViolationKind::UnknownGrasp { name: name.clone(), object: obj.body.name.clone() },
         ));
-        return;
+        return None;
     };
     let hand = scn.robot(r).hand;
     if let (Some(allowed), Some(h)) = (&grasp.hands, hand) {
@@ -332,6 +362,7 @@ fn check_grasp(world: &World, r: RobotId, o: ObjectId, a: &ScheduledAction, q: &
             ViolationKind::MissesGrasp { grasp: name.clone(), distance: dist, angle },
         ));
     }
+    Some(grasp)
 }
 
 fn report(

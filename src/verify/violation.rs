@@ -4,7 +4,7 @@
 use std::fmt;
 
 use crate::resolve::Scenario;
-use crate::world::Blocker;
+use crate::world::{ApproachDeviation, Blocker};
 
 /// Which half of an action a waypoint or segment belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,6 +66,10 @@ pub enum ViolationKind {
     BadAfter {
         dep: u32,
     },
+    /// `after` names the same action twice.
+    DuplicateAfter {
+        dep: u32,
+    },
     UnknownRobot {
         name: String,
     },
@@ -105,6 +109,14 @@ pub enum ViolationKind {
         angle: f64,
     },
     ReachNotTarget,
+    /// A reach of the target configuration followed by other actions.
+    ReachNotLast,
+    /// The approach's last segment, where the grasped object is ignored, is not the
+    /// straight move in.
+    CrookedApproach {
+        grasp: String,
+        deviation: ApproachDeviation,
+    },
     /// A reach (no object) that names a grasp.
     GraspOnReach {
         grasp: String,
@@ -167,12 +179,13 @@ impl fmt::Display for ViolationKind {
             TargetMismatch { expected, found } => write!(f, "its target is {found}; the scenario's is {expected}"),
             BadId { expected } => write!(f, "ids must run 1, 2, 3, … in order; expected {expected}"),
             BadAfter { dep } => write!(f, "waits for action {dep}, which does not run before it"),
+            DuplicateAfter { dep } => write!(f, "lists action {dep} twice in `after`"),
             UnknownRobot { name } => write!(f, "no robot named `{name}` in the scenario"),
             UnknownObject { name } => write!(f, "no removable object named `{name}` in the scenario"),
             AlreadyRemoved { object } => write!(f, "`{object}` was already removed by an earlier action"),
             WrongLength { expected, found } => write!(f, "has {found} joint values; the robot has {expected} joints"),
             OutOfLimits { joint, value, lo, hi } => {
-                write!(f, "joint `{joint}` is {value:.6}, outside its limits [{lo:.6}, {hi:.6}]")
+                write!(f, "joint `{joint}` is {}, outside its limits [{lo:.6}, {hi:.6}]", Value(*value))
             }
             NotAtHome => f.write_str("is not the robot's home configuration"),
             EmptyApproach => f.write_str("has no approach waypoints"),
@@ -191,6 +204,19 @@ impl fmt::Display for ViolationKind {
                 angle.to_degrees()
             ),
             ReachNotTarget => f.write_str("a reach action that does not end at the target configuration"),
+            ReachNotLast => f.write_str("a reach of the target configuration must be the last action"),
+            CrookedApproach { grasp, deviation: d } => write!(
+                f,
+                "is not the straight move in to grasp `{grasp}`: the TCP strays {:.2} mm from the approach line, \
+                 goes {:.2} mm past the grasp and turns {:.3}° (allowed: {} mm, {} mm, {}°); the object is an \
+                 obstacle everywhere else",
+                d.off_line * 1e3,
+                d.overshoot * 1e3,
+                d.angle.to_degrees(),
+                crate::world::APPROACH_LATERAL_TOLERANCE * 1e3,
+                crate::world::APPROACH_OVERSHOOT_TOLERANCE * 1e3,
+                crate::world::APPROACH_ANGLE_TOLERANCE.to_degrees().round(),
+            ),
             GraspOnReach { grasp } => {
                 write!(f, "names grasp `{grasp}`, but a reach of the target configuration grasps nothing")
             }
@@ -206,6 +232,20 @@ impl fmt::Display for ViolationKind {
             RemovedListMismatch { expected } => {
                 write!(f, "`removed` does not list the grasped objects in action order ({expected})")
             }
+        }
+    }
+}
+
+/// A joint value as read from a schedule: six decimals, or scientific notation when
+/// huge, so a wild value stays one readable line.
+struct Value(f64);
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.abs() >= 1e6 {
+            write!(f, "{:.6e}", self.0)
+        } else {
+            write!(f, "{:.6}", self.0)
         }
     }
 }
@@ -235,6 +275,6 @@ pub fn describe_blocker(scn: &Scenario, b: &Blocker) -> String {
         }
         Blocker::SelfCollision { link_a, link_b } => format!("self-collision between `{link_a}` and `{link_b}`"),
         Blocker::HeldSelf { object: o, link } => format!("carried `{}` hits the arm's own link `{link}`", object(*o)),
-        Blocker::JointLimit { joint, value } => format!("joint `{joint}` at {value:.6} is outside its limits"),
+        Blocker::JointLimit { joint, value } => format!("joint `{joint}` at {} is outside its limits", Value(*value)),
     }
 }

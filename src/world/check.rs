@@ -364,7 +364,7 @@ fn segment_coarse_to_fine(
 }
 
 /// Samples of a segment with steps of at most `step`, each cut into `parts`.
-fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
+pub(crate) fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
     let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
     // Saturating: a NaN or infinite span must not overflow (the limits check blocks it).
     (if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 }).saturating_mul(parts.max(1))
@@ -372,7 +372,7 @@ fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
 
 /// Sample `i` of `n` on a -> b; the last is `b` exactly.
 #[inline]
-fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
+pub(crate) fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
     let t = i as f64 / n as f64;
     for (k, v) in q.iter_mut().enumerate() {
         *v = if i == n { b[k] } else { a[k] + (b[k] - a[k]) * t };

@@ -20,7 +20,10 @@ mod urdf;
 pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
 pub use check::{CheckCtx, CONTACT_TOLERANCE};
 pub use error::WorldError;
-pub use grasps::{report, GraspReport, ObjectReach, RobotReach};
+pub use grasps::{
+    report, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,
+    APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
+};
 pub use labels::{Blocker, Check, ObjectSet};
 pub use shapes::MeshMode;
 
@@ -125,6 +128,22 @@ impl World {
     /// The paper's `selectGrasps` for one robot and object.
     pub fn select_grasps(&self, r: RobotId, o: ObjectId) -> Vec<GraspConfig> {
         grasps::select(self, r, o)
+    }
+    /// How the straight joint-space move `a`..`b` strays from `grasp`'s straight-in
+    /// approach, sampled as [`World::check_motion`] samples it at `resolution`.
+    /// Panics if `a` or `b` is not [`World::dof`] long.
+    pub fn approach_deviation(
+        &self,
+        r: RobotId,
+        grasp: &crate::resolve::Grasp,
+        a: &[f64],
+        b: &[f64],
+        resolution: f64,
+    ) -> ApproachDeviation {
+        let m = &self.robots[r.index()];
+        check::assert_dof(m, a);
+        check::assert_dof(m, b);
+        grasps::approach_deviation(self, r, grasp, a, b, resolution)
     }
     /// The object as carried after grasping it at `q_grasp`.
     /// Panics if `q_grasp.len()` is not [`World::dof`].
