@@ -189,6 +189,7 @@ fn unknown_flange_link() {
     let errs = build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).expect_err("errors");
     assert_eq!(code(&errs[0]), "declutter::world::unknown_flange");
     assert_eq!(errs[0].primary_span(), Some(span_of("home")));
+    insta::assert_snapshot!(rendered(&errs));
 }
 
 #[test]

@@ -218,3 +218,20 @@ fn shipped_tx90_encloses_the_real_collision_meshes() {
         );
     }
 }
+
+/// What the book's "Using your own robot" says of this file: the ROS-Industrial
+/// `flange` and `tool0` frames are commented out, so the chain ends at `link_6`.
+#[test]
+fn real_tx90_ends_at_link_6_and_a_flange_named_flange_is_refused_with_the_links() {
+    let Some(root) = shared_robots() else { return };
+    let urdf = root.join("tx90/tx90.urdf");
+    let scn = scenario(vec![robot("tx90", &urdf, vec![0.0; 6], None)], vec![], vec![], vec![]);
+    let w = build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:#?}"));
+    assert_eq!(w.flange_link(RobotId(0)), "link_6");
+    let mut scn = scn;
+    scn.robots[0].flange = Some(("flange".into(), sp(30, 38)));
+    let errs = build(&scn, &WorldOptions::default(), &FsLoader).expect_err("there is no link `flange`");
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    let help = miette::Diagnostic::help(&errs[0]).map(|h| h.to_string()).unwrap_or_default();
+    assert_eq!(help, "the URDF's links: `base_link`, `link_1`, `link_2`, `link_3`, `link_4`, `link_5`, `link_6`");
+}

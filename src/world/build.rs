@@ -330,7 +330,8 @@ impl LoadCtx<'_> {
             Ok(c) => c,
             Err(ChainError::UnknownFlange) => {
                 let (link, span) = flange.cloned().unwrap_or_default();
-                self.errs.push(WorldError::UnknownFlange { robot: robot.to_string(), link, span });
+                let links = model.links.iter().map(|l| format!("`{}`", l.name)).collect::<Vec<_>>().join(", ");
+                self.errs.push(WorldError::UnknownFlange { robot: robot.to_string(), link, links, span });
                 return None;
             }
             Err(ChainError::Structure(reason)) => {

@@ -110,10 +110,12 @@ pub enum WorldError {
     },
 
     #[error("robot `{robot}` has no link `{link}` to attach its hand to")]
-    #[diagnostic(code(declutter::world::unknown_flange))]
+    #[diagnostic(code(declutter::world::unknown_flange), help("the URDF's links: {links}"))]
     UnknownFlange {
         robot: String,
         link: String,
+        /// Every link of the URDF, in file order (links in XML comments are not links).
+        links: String,
         #[label("not a link of the URDF")]
         span: Span,
     },
