@@ -104,9 +104,47 @@ pub trait Loader: Sync {
     fn read_to_string(&self, path: &Path) -> io::Result<String>;
     fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>>;
     fn exists(&self, path: &Path) -> bool;
-    /// True if `path` names a directory (so "no such file" would mislead).
-    fn is_dir(&self, _path: &Path) -> bool {
-        false
+    /// What is at a `path` that [`Loader::exists`] refused, so that "no such file" is
+    /// said only when it is true.
+    fn what_is(&self, _path: &Path) -> NotAFile {
+        NotAFile::Missing
+    }
+}
+
+/// What stands where a file was expected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NotAFile {
+    Missing,
+    Directory,
+    /// A device, FIFO or socket: reading it may never end (`/dev/zero`, a pipe).
+    Special,
+}
+
+impl NotAFile {
+    /// "does not exist", "is a directory", ...
+    pub fn predicate(self) -> &'static str {
+        match self {
+            NotAFile::Missing => "does not exist",
+            NotAFile::Directory => "is a directory",
+            NotAFile::Special => "is not a regular file",
+        }
+    }
+    /// The help line, `dir` being the directory the path is relative to.
+    pub fn help(self, dir: &str) -> String {
+        match self {
+            NotAFile::Special => {
+                "name a regular file: declutter reads files whole, and a device or pipe may never end".to_string()
+            }
+            _ => format!("paths are relative to the directory of the file that names them ({dir})"),
+        }
+    }
+    /// The label under the path.
+    pub fn label(self) -> &'static str {
+        match self {
+            NotAFile::Missing => "no such file",
+            NotAFile::Directory => "a directory, not a file",
+            NotAFile::Special => "a device, pipe or socket, not a file",
+        }
     }
 }
 
@@ -129,8 +167,12 @@ impl Loader for FsLoader {
     fn exists(&self, path: &Path) -> bool {
         path.is_file()
     }
-    fn is_dir(&self, path: &Path) -> bool {
-        path.is_dir()
+    fn what_is(&self, path: &Path) -> NotAFile {
+        match std::fs::metadata(path) {
+            Ok(m) if m.is_dir() => NotAFile::Directory,
+            Ok(m) if !m.is_file() => NotAFile::Special,
+            _ => NotAFile::Missing,
+        }
     }
 }
 

@@ -237,3 +237,35 @@ fn help_describes_every_argument() {
     assert_eq!(code(&o), 0);
     insta::assert_snapshot!("graph_help", stdout(&o));
 }
+
+#[test]
+fn use_of_the_current_directory_from_a_file_in_it_says_it_is_a_directory() {
+    let dir = TempDir::new("use_dot");
+    std::fs::write(dir.0.join("s.dcl"), "use \".\"\n").expect("scenario written");
+    let o = Command::new(env!("CARGO_BIN_EXE_declutter"))
+        .args(["check", "s.dcl"])
+        .current_dir(&dir.0)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("the declutter binary runs");
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("× used file `.` is a directory"), "{}", stderr(&o));
+}
+
+#[test]
+fn check_of_a_library_loads_its_robots() {
+    // A cell file has no target, but a broken robot in it must not wait for a scenario.
+    let dir = TempDir::new("library");
+    let tx90 = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/robots/tx90.urdf");
+    let cell = format!("robot r1 {{\n    urdf \"{}\"\n    home [0, 0, 0]\n}}\n", tx90.display());
+    std::fs::write(dir.0.join("cell.dcl"), cell).expect("library written");
+    let o = run(&["check", &dir.path("cell.dcl")]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("declutter::world::joint_count"), "{}", stderr(&o));
+    let o = run(&["check", "examples/cell.dcl"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o),
+        "ok: examples/cell.dcl (a library: no target) — 2 robots, 0 objects, 1 fixed body, 0 grasps\n"
+    );
+}

@@ -53,17 +53,23 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         plural(summary.fixed, "fixed body").replace("bodys", "bodies"),
         plural(summary.grasps, "grasp")
     );
-    if summary.library {
-        eprintln!("ok: {} (a library: no target) — {counts}", file.display());
-        for w in &summary.warnings {
-            eprint!("{}", render_one(&sources, w, render_options(g)));
-        }
-        return EXIT_OK;
-    }
-    let mut sources = SourceMap::new();
-    let scn = match resolve::resolve(file, &FsLoader, &mut sources) {
-        Ok(s) => s,
-        Err(errs) => return fail(&sources, &errs, g),
+    let (scn, name) = if summary.library {
+        // Robots, hands and meshes are loaded all the same: a broken URDF in a cell file
+        // should not wait for the first scenario that uses it.
+        let Some(scn) = summary.library_world else {
+            eprintln!("ok: {} (a library: no target) — {counts}", file.display());
+            return warn_all(&sources, &summary.warnings, g);
+        };
+        (*scn, format!("{} (a library: no target)", file.display()))
+    } else {
+        let mut sources_again = SourceMap::new();
+        let scn = match resolve::resolve(file, &FsLoader, &mut sources_again) {
+            Ok(s) => s,
+            Err(errs) => return fail(&sources_again, &errs, g),
+        };
+        sources = sources_again;
+        let name = scn.name.clone().unwrap_or_else(|| file.display().to_string());
+        (scn, name)
     };
     let opts = g.world_options();
     let w = match world::build(&scn, &opts, &FsLoader) {
@@ -71,8 +77,10 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         Err(errs) => return fail(&sources, &errs, g),
     };
     let report = world::report(&w);
-    let name = scn.name.clone().unwrap_or_else(|| file.display().to_string());
     eprintln!("ok: {name} — {counts}");
+    for w in &summary.warnings {
+        eprint!("{}", render_one(&sources, w, render_options(g)));
+    }
     for o in &report.objects {
         let total = scn.object(o.object).grasps.len();
         let per_robot: Vec<String> =
@@ -82,6 +90,14 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     for o in report.unreachable() {
         let warning = Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span };
         eprint!("{}", render_one(&sources, &warning, render_options(g)));
+    }
+    EXIT_OK
+}
+
+/// Prints each warning; `check` still succeeds.
+fn warn_all(sources: &SourceMap, warnings: &[resolve::ResolveWarning], g: &GlobalOptions) -> u8 {
+    for w in warnings {
+        eprint!("{}", render_one(sources, w, render_options(g)));
     }
     EXIT_OK
 }

@@ -34,18 +34,17 @@ pub enum ResolveError {
         span: Span,
     },
 
-    #[error("{what} file `{path}` {}", if *is_dir { "is a directory" } else { "does not exist" })]
-    #[diagnostic(
-        code(declutter::resolve::missing_file),
-        help("paths are relative to the directory of the file that names them ({dir})")
-    )]
+    #[error("{what} file `{path}` {}", found.predicate())]
+    #[diagnostic(code(declutter::resolve::missing_file))]
     MissingFile {
         what: &'static str,
         path: String,
-        dir: String,
-        /// The path names a directory, not a file.
-        is_dir: bool,
-        #[label("{}", if *is_dir { "a directory, not a file" } else { "no such file" })]
+        /// Built by [`crate::diag::NotAFile::help`].
+        #[help]
+        help: String,
+        /// What is there instead of a file.
+        found: crate::diag::NotAFile,
+        #[label("{}", found.label())]
         span: Span,
     },
 

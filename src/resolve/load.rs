@@ -121,11 +121,12 @@ impl Walk<'_> {
             return;
         }
         if !self.loader.exists(&path) {
+            let found = self.loader.what_is(&path);
             self.errors.push(ResolveError::MissingFile {
                 what: "used",
                 path: used.value.clone(),
-                dir: dir_name(dir),
-                is_dir: self.loader.is_dir(&path),
+                help: found.help(&dir_name(dir)),
+                found,
                 span: used.span,
             });
             return;
@@ -153,6 +154,10 @@ pub fn normalize(p: &Path) -> PathBuf {
             }
             other => out.push(other.as_os_str()),
         }
+    }
+    // `.` seen from a file in the current directory: the directory itself, not "".
+    if out.as_os_str().is_empty() && !p.as_os_str().is_empty() {
+        out.push(".");
     }
     out
 }

@@ -44,6 +44,10 @@ pub struct Summary {
     pub grasps: usize,
     /// Valid but suspicious: for `check` to print (it still succeeds).
     pub warnings: Vec<ResolveWarning>,
+    /// A library with a robot, as a scenario whose target is its first robot's home:
+    /// what `check` builds a world from, so that URDFs, meshes and joint vectors are
+    /// checked before a scenario uses the file. `None` for a scenario (resolve it).
+    pub library_world: Option<Box<Scenario>>,
 }
 
 /// Like [`resolve`], but a file with neither `scenario` nor `target` is accepted as a library.
@@ -60,9 +64,23 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
         // likely meant as a scenario whose `target` was forgotten.
         let own_object = p.objects.iter().map(|o| o.body.span).find(|s| Some(s.file) == root_file);
         let warnings = own_object.map(|span| ResolveWarning::ObjectsWithoutTarget { span }).into_iter().collect();
+        let library_world = p.robots.first().map(|r| {
+            let target = Target::Config { robot: RobotId(0), q: r.home.clone(), span: r.home.span };
+            Box::new(Scenario {
+                name: None,
+                root: root.to_path_buf(),
+                hands: p.hands.clone(),
+                robots: p.robots.clone(),
+                fixed: p.fixed.clone(),
+                objects: p.objects.clone(),
+                target,
+                planner: p.planner.clone(),
+            })
+        });
         return Ok(Summary {
             name: None,
             library: true,
+            library_world,
             warnings,
             robots: p.robots.len(),
             objects: p.objects.len(),
@@ -74,6 +92,7 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
     Ok(Summary {
         name: s.name.clone(),
         library: false,
+        library_world: None,
         warnings: Vec::new(),
         robots: s.robots.len(),
         objects: s.objects.len(),

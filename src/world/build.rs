@@ -97,7 +97,8 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             None => home.clone(),
         };
         if let Target::Config { robot, q, .. } = &scn.target {
-            if robot.index() == i {
+            // A target that is the home itself (a library's stand-in) was just checked.
+            if robot.index() == i && q != &r.home {
                 ctx.joint_values(&r.name, "target", q, &chain);
             }
         }

@@ -261,11 +261,12 @@ impl Lower<'_> {
         let dir = self.sources.get(s.span.file).and_then(|f| f.path.parent()).unwrap_or(Path::new("")).to_path_buf();
         let path = normalize(&dir.join(&s.value));
         if s.value.is_empty() || !self.loader.exists(&path) {
+            let found = self.loader.what_is(&path);
             self.errors.push(ResolveError::MissingFile {
                 what,
                 path: s.value.clone(),
-                dir: dir_name(&dir),
-                is_dir: self.loader.is_dir(&path),
+                help: found.help(&dir_name(&dir)),
+                found,
                 span: s.span,
             });
         }
