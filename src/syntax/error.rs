@@ -16,6 +16,9 @@ pub enum SyntaxError {
         #[label("{label}")]
         span: Span,
         label: String,
+        /// The `{` still open where a `}` was expected.
+        #[label("this `{{` is not closed")]
+        open_brace: Option<Span>,
         #[help]
         help: Option<String>,
     },

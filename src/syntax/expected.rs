@@ -120,7 +120,15 @@ pub(super) fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rul
     collapse(&mut words);
     // The most specific expectations first; "a declaration" and "the end of the file" last.
     words.sort_by_key(|w| w.starts_with("a declaration") || w.starts_with("the end"));
-    let pos = pos.min(text.len());
+    let mut pos = pos.min(text.len());
+    // In `box(NaN, 1, 1)` the grammar reads `NaN` as an argument's name and stops at the
+    // `,` for want of a `:`; the mistake is the word, a number that is not finite.
+    if words.iter().any(|w| w == "`:`") {
+        if let Some(start) = non_finite_word_before(text, pos) {
+            pos = start;
+            words = vec!["a number".to_string()];
+        }
+    }
     let (found, found_span) = token_at(text, pos);
     // At the end of the file, point at the last character so the report shows a line.
     let at_end = found.is_empty();
@@ -147,13 +155,71 @@ pub(super) fn convert_error(file: FileId, text: &str, e: &pest::error::Error<Rul
     } else {
         "unexpected here".to_string()
     };
+    // Only where the block surely ended (the file did, or a new declaration starts):
+    // elsewhere a `}` is merely one of the things that could come next.
+    let starts_declaration =
+        ["scenario", "use", "robot", "fixed", "object", "planner", "target"].contains(&found.as_str());
+    let open_brace = if words.iter().any(|w| w == "`}`") && (at_end || starts_declaration) {
+        unclosed_brace_before(text, pos)
+    } else {
+        None
+    };
     SyntaxError::Expected {
         expected,
         found: describe_found(&found),
         span: Span::new(file, pos, pos + found_span),
         label,
+        open_brace: open_brace.map(|b| Span::new(file, b, b + 1)),
         help,
     }
+}
+
+/// The innermost `{` left open before `pos`, strings and comments aside.
+fn unclosed_brace_before(text: &str, pos: usize) -> Option<usize> {
+    let before = text.get(..pos)?;
+    let mut open = Vec::new();
+    let mut chars = before.char_indices().peekable();
+    while let Some((i, c)) = chars.next() {
+        match c {
+            '{' => open.push(i),
+            '}' => {
+                open.pop();
+            }
+            '"' => {
+                // To the closing quote or the end of the line, escapes skipped.
+                while let Some((_, c)) = chars.next() {
+                    match c {
+                        '\\' => {
+                            chars.next();
+                        }
+                        '"' | '\n' => break,
+                        _ => {}
+                    }
+                }
+            }
+            '/' if chars.peek().is_some_and(|&(_, n)| n == '/') => {
+                for (_, c) in chars.by_ref() {
+                    if c == '\n' {
+                        break;
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    open.pop()
+}
+
+/// Where the word right before `pos` (spaces aside) starts, if it is `nan`, `inf` or
+/// `infinity` in any case.
+fn non_finite_word_before(text: &str, pos: usize) -> Option<usize> {
+    let before = text.get(..pos)?.trim_end_matches([' ', '\t']);
+    let start = before.rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+    is_non_finite(&before[start..]).then_some(start)
+}
+
+fn is_non_finite(word: &str) -> bool {
+    ["nan", "inf", "infinity"].contains(&word.to_ascii_lowercase().trim_start_matches(['+', '-']))
 }
 
 /// True if the line up to `pos` holds a `"` that is not closed: the parser stopped inside a string.
@@ -177,8 +243,7 @@ fn hint(found: &str, spaced_number: bool, words: &[String], after: &str, in_stri
     if unterminated || (in_string && words.iter().any(|w| w == "`\"`")) {
         return Some("a string must end with `\"` on the same line".to_string());
     }
-    let non_finite = ["nan", "inf", "infinity"].contains(&found.to_ascii_lowercase().trim_start_matches(['+', '-']));
-    if non_finite && words.iter().any(|w| w == "a number") {
+    if is_non_finite(found) && words.iter().any(|w| w == "a number") {
         return Some("non-finite numbers (nan, inf) are not allowed; write a finite quantity like `3cm`".to_string());
     }
     if found == "=" {
