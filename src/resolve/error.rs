@@ -8,10 +8,10 @@ use crate::syntax::SyntaxError;
 
 #[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
 pub enum ResolveError {
-    /// A syntax error in the root file or in a `use`d file.
+    /// A syntax error in the root file or in a `use`d file (boxed: it is the largest).
     #[error(transparent)]
     #[diagnostic(transparent)]
-    Syntax(#[from] SyntaxError),
+    Syntax(Box<SyntaxError>),
 
     #[error("cannot read `{path}`: {reason}")]
     #[diagnostic(code(declutter::resolve::unreadable))]
@@ -238,6 +238,16 @@ pub enum ResolveError {
         help: Option<String>,
     },
 
+    #[error("hand `{name}` is listed twice in `for`")]
+    #[diagnostic(code(declutter::resolve::duplicate_in_list), help("list each hand once"))]
+    DuplicateInList {
+        name: String,
+        #[label("listed again here")]
+        span: Span,
+        #[label("first listed here")]
+        first: Span,
+    },
+
     #[error("`{what}` given twice")]
     #[diagnostic(code(declutter::resolve::duplicate_statement))]
     DuplicateStatement {
@@ -345,6 +355,7 @@ impl Located for ResolveError {
             | NoRobot { span }
             | MissingStatement { span, .. }
             | DuplicateStatement { span, .. }
+            | DuplicateInList { span, .. }
             | NoShape { span, .. }
             | ShapeArgument { span, .. }
             | UnknownPlannerKey { span, .. }

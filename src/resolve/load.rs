@@ -79,7 +79,7 @@ impl Walk<'_> {
         self.done.insert(path.to_path_buf());
         // The declarations that parsed are still resolved, so their errors are reported too.
         let (file, syntax_errors) = syntax::parse_recovering(id, &text);
-        self.errors.extend(syntax_errors.into_iter().map(ResolveError::Syntax));
+        self.errors.extend(syntax_errors.into_iter().map(|e| ResolveError::Syntax(Box::new(e))));
         let in_root = from.is_none();
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         self.stack.push(path.to_path_buf());

@@ -163,8 +163,10 @@ pub fn integer(q: &Quantity, what: &str, lo: u64, hi: u64) -> Result<u64, Resolv
 
 /// The quantity as the user wrote it.
 pub fn written(q: &Quantity) -> String {
+    // A 300-digit literal is shown by its value: the span already points at the text.
+    let number = if q.number.len() > 24 && q.value.is_finite() { format!("{:e}", q.value) } else { q.number.clone() };
     match &q.unit {
-        Some(u) => format!("{}{}", q.number, u.name),
-        None => q.number.clone(),
+        Some(u) => format!("{number}{}", u.name),
+        None => number,
     }
 }

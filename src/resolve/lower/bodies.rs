@@ -191,7 +191,13 @@ impl Lower<'_> {
         let mut ok = true;
         let mut next = 0;
         let signature = format!("{kw}({})", spec.join(", "));
-        if s.args.len() > spec.len() || (s.args.iter().all(|a| a.name.is_none()) && s.args.len() < spec.len()) {
+        // `cylinder(radius: 3cm, length: 1cm, radius: 4cm)`: the repeated name is the
+        // mistake, reported below, not the count.
+        let name = |a: &ast::Arg| a.name.as_ref().map(|n| n.name.clone());
+        let repeats_a_name =
+            s.args.iter().enumerate().any(|(i, a)| a.name.is_some() && s.args[..i].iter().any(|b| name(b) == name(a)));
+        let too_many = s.args.len() > spec.len() && !repeats_a_name;
+        if too_many || (s.args.iter().all(|a| a.name.is_none()) && s.args.len() < spec.len()) {
             self.errors.push(ResolveError::WrongCount {
                 what: format!("`{kw}`"),
                 expected: format!(
@@ -244,9 +250,17 @@ impl Lower<'_> {
             };
             match slots.get_mut(slot) {
                 Some(x @ None) => *x = Some(a),
-                _ => {
+                None => {
                     self.errors.push(ResolveError::ShapeArgument {
-                        problem: format!("argument `{}` of `{kw}` given twice", spec.get(slot).unwrap_or(&"?")),
+                        problem: format!("`{kw}` takes {} arguments; this one is too many", spec.len()),
+                        span: a.span,
+                        help: Some(format!("the arguments are {signature}")),
+                    });
+                    ok = false;
+                }
+                Some(Some(_)) => {
+                    self.errors.push(ResolveError::ShapeArgument {
+                        problem: format!("argument `{}` of `{kw}` given twice", spec[slot]),
                         span: a.span,
                         help: Some(format!("the arguments are {signature}")),
                     });

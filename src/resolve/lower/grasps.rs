@@ -71,14 +71,19 @@ impl Lower<'_> {
                     }
                     ast::GraspOption::For { hands: hs, span } => {
                         let mut ids = Vec::new();
-                        for h in hs {
+                        for (k, h) in hs.iter().enumerate() {
+                            if let Some(first) = hs[..k].iter().find(|f| f.name == h.name) {
+                                self.errors.push(ResolveError::DuplicateInList {
+                                    name: h.name.clone(),
+                                    span: h.span,
+                                    first: first.span,
+                                });
+                                continue;
+                            }
                             if let Some(i) =
                                 self.lookup(h, |k| if let DeclKind::Hand(i) = k { Some(i) } else { None }, "a hand")
                             {
-                                let id = HandId(i as u32);
-                                if !ids.contains(&id) {
-                                    ids.push(id);
-                                }
+                                ids.push(HandId(i as u32));
                             }
                         }
                         self.once(&mut hands, "for", ids, *span);
