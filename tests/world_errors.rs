@@ -434,3 +434,29 @@ target can
         assert!(build(&scn, &WorldOptions::default(), &declutter::diag::FsLoader).is_ok(), "{ok}");
     }
 }
+
+#[test]
+fn missing_mesh_by_relative_path_has_its_own_help() {
+    let urdf = one_link(r#"<collision><geometry><mesh filename="meshes/l1.stl"/></geometry></collision>"#);
+    let loader = MemLoader::new().with("/m/arm.urdf", urdf);
+    let errs = errors(&arm_scenario_dof("/m/arm.urdf", vec![0.0], 1), &loader);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    let help = miette::Diagnostic::help(&errs[0]).map(|h| h.to_string());
+    assert_eq!(help.as_deref(), Some("a relative path is resolved from the folder of the file that names it"));
+}
+
+#[test]
+fn broken_mesh_of_a_fixed_body_names_the_body() {
+    let mut scn = arm_scenario(planar3().to_str().unwrap(), vec![0.0, 0.0, 0.0]);
+    let file =
+        declutter::resolve::FileRef { path: "/m/post.stl".into(), written: "post.stl".into(), span: span_of("drop") };
+    let shape = declutter::resolve::Shape::Mesh { file, scale: nalgebra::Vector3::new(1.0, 1.0, 1.0) };
+    scn.fixed.push(body("post", shape, at(2.0, 2.0, 0.0)));
+    let loader = MemLoader::new().with("/m/post.stl", "solid nothing\nthis is not STL\n");
+    let errs = build(&scn, &WorldOptions::default(), &loader).expect_err("a broken mesh");
+    let planar = errs.iter().filter(|e| code(e) != "declutter::world::mesh_load").count();
+    assert_eq!(planar, errs.len() - 1, "{errs:?}");
+    let e = errs.iter().find(|e| code(e) == "declutter::world::mesh_load").expect("a mesh_load error");
+    assert!(e.to_string().starts_with("mesh `post.stl` of body `post` cannot be loaded: "), "{e}");
+    assert_eq!(e.primary_span(), Some(span_of("drop")));
+}

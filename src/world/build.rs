@@ -436,10 +436,11 @@ impl LoadCtx<'_> {
                     Ok(path) => meshes.make(&Geometry::Mesh { path: &path, scale: *scale }, &g.pose_link_geom),
                     Err(tried) => {
                         self.errs.push(WorldError::MeshMissing {
-                            link: link.to_string(),
+                            owner: format!("link `{link}`"),
                             uri: uri.clone(),
                             tried: describe_tried(&tried),
                             span: file.span,
+                            help: super::error::mesh_missing_help(uri),
                         });
                         continue;
                     }
@@ -448,7 +449,7 @@ impl LoadCtx<'_> {
             match made {
                 Ok(p) => out.push(p),
                 Err(reason) => self.errs.push(WorldError::MeshLoad {
-                    link: link.to_string(),
+                    owner: format!("link `{link}`"),
                     uri: match &g.kind {
                         GeomKind::Mesh { uri, .. } => uri.clone(),
                         _ => String::new(),
@@ -474,10 +475,11 @@ impl LoadCtx<'_> {
             Shape::Mesh { file, scale } => {
                 if !self.loader.exists(&file.path) {
                     self.errs.push(WorldError::MeshMissing {
-                        link: body.to_string(),
+                        owner: format!("body `{body}`"),
                         uri: file.written.clone(),
                         tried: describe_tried(std::slice::from_ref(&file.path)),
                         span: file.span,
+                        help: super::error::mesh_missing_help(&file.written),
                     });
                     return None;
                 }
@@ -485,7 +487,7 @@ impl LoadCtx<'_> {
                     Ok(p) => Ok(p),
                     Err(reason) => {
                         self.errs.push(WorldError::MeshLoad {
-                            link: body.to_string(),
+                            owner: format!("body `{body}`"),
                             uri: file.written.clone(),
                             reason,
                             span: file.span,

@@ -85,24 +85,26 @@ pub enum WorldError {
         span: Span,
     },
 
-    #[error("mesh `{uri}` of link `{link}` not found ({tried})")]
-    #[diagnostic(
-        code(declutter::world::mesh_missing),
-        help("`package://NAME/...` is searched in the URDF's folder and its ancestors, then in `--package-path` directories and DECLUTTER_PACKAGE_PATH")
-    )]
+    #[error("mesh `{uri}` of {owner} not found ({tried})")]
+    #[diagnostic(code(declutter::world::mesh_missing))]
     MeshMissing {
-        link: String,
+        /// "link `x`" of a URDF, or "body `x`" of the scenario.
+        owner: String,
         uri: String,
         /// "looked at A, B", or why nothing could be looked at.
         tried: String,
         #[label("loading this file")]
         span: Span,
+        /// Where such a URI is looked for (see [`mesh_missing_help`]).
+        #[help]
+        help: String,
     },
 
-    #[error("mesh `{uri}` of link `{link}` cannot be loaded: {reason}")]
+    #[error("mesh `{uri}` of {owner} cannot be loaded: {reason}")]
     #[diagnostic(code(declutter::world::mesh_load))]
     MeshLoad {
-        link: String,
+        /// "link `x`" of a URDF, or "body `x`" of the scenario.
+        owner: String,
         uri: String,
         reason: String,
         #[label("loading this file")]
@@ -206,5 +208,18 @@ impl Located for WorldError {
             | WorldError::JointUnit { span, .. }
             | WorldError::ConfigCollides { span, .. } => *span,
         })
+    }
+}
+
+/// Where a missing mesh was looked for, by the kind of its URI.
+pub(crate) fn mesh_missing_help(uri: &str) -> String {
+    if uri.starts_with("package://") {
+        "`package://NAME/...` is searched in the URDF's folder and its ancestors, then in `--package-path` \
+         directories and DECLUTTER_PACKAGE_PATH"
+            .to_string()
+    } else if uri.starts_with("file://") {
+        "`file://` URIs name an absolute path on this machine".to_string()
+    } else {
+        "a relative path is resolved from the folder of the file that names it".to_string()
     }
 }
