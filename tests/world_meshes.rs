@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 
 use declutter::diag::MemLoader;
 use declutter::resolve::{Object, ObjectId, RobotId, Shape};
-use declutter::world::{build, Check, CheckCtx, WorldError, WorldOptions};
+use declutter::world::{build, Check, CheckCtx, MeshMode, WorldError, WorldOptions};
 use world_support::*;
 
 /// An ASCII STL tetrahedron, 0.1 m on a side.
@@ -177,4 +177,47 @@ fn collada_unit_applies_to_node_translations() {
     let w = build(&scn, &opts, &loader).unwrap_or_else(|e| panic!("{e:?}"));
     let Check::Touches(s) = w.check(RobotId(0), &[0.0], &CheckCtx::new()) else { panic!("blocked") };
     assert!(s.contains(ObjectId(0)) && !s.contains(ObjectId(1)), "{s:?}");
+}
+
+/// An ASCII STL of `facets`, each three vertices.
+fn stl(facets: &[[[f64; 3]; 3]]) -> String {
+    let mut s = String::from("solid t\n");
+    for f in facets {
+        s.push_str("facet normal 0 0 1\nouter loop\n");
+        for v in f {
+            s.push_str(&format!("vertex {} {} {}\n", v[0], v[1], v[2]));
+        }
+        s.push_str("endloop\nendfacet\n");
+    }
+    s + "endsolid t\n"
+}
+
+fn mesh_errors(mesh: &str, mode: MeshMode) -> Vec<String> {
+    let loader = MemLoader::new().with("/m/arm.urdf", arm_urdf("m.stl")).with("/m/m.stl", mesh);
+    let scn = scenario(vec![robot("arm", "/m/arm.urdf", vec![0.0], None)], vec![], vec![], vec![]);
+    let opts = WorldOptions { mesh_mode: mode, self_collision_samples: 0, ..WorldOptions::default() };
+    match build(&scn, &opts, &loader) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(ToString::to_string).collect(),
+    }
+}
+
+#[test]
+fn a_mesh_on_one_line_is_refused_and_a_flat_sheet_loads_in_both_modes() {
+    // Two triangles along the x axis: four vertices, no area.
+    let line = stl(&[
+        [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.2, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.3, 0.0, 0.0], [0.1, 0.0, 0.0]],
+    ]);
+    let no_area = "mesh `m.stl` of link `l1` cannot be loaded: its triangles have no area (every vertex on one line)";
+    assert_eq!(mesh_errors(&line, MeshMode::ConvexHull), [no_area]);
+    assert_eq!(mesh_errors(&line, MeshMode::TriMesh), [no_area]);
+    // A 10 cm square sheet in the plane z = 0: a thin wall, in both modes.
+    let sheet = stl(&[
+        [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.1, 0.0]],
+        [[0.0, 0.0, 0.0], [0.1, 0.1, 0.0], [0.0, 0.1, 0.0]],
+    ]);
+    assert_eq!(mesh_errors(&sheet, MeshMode::TriMesh), Vec::<String>::new());
+    assert_eq!(mesh_errors(&sheet, MeshMode::ConvexHull), Vec::<String>::new());
+    assert_eq!(mesh_errors(STL, MeshMode::ConvexHull), Vec::<String>::new());
 }

@@ -203,6 +203,18 @@ impl<'l> MeshCache<'l> {
         if vertices.len() < 4 || vertices.iter().any(|v| !v.is_finite()) {
             return Err("the mesh has fewer than 4 vertices or non-finite coordinates".into());
         }
+        // Triangles of no area (every vertex on one line or point) bound nothing, in
+        // either mode; a flat sheet is a thin wall in both.
+        let area: f64 = indices
+            .iter()
+            .filter_map(|f| {
+                let [a, b, c] = f.map(|i| vertices.get(i as usize).copied());
+                Some((b? - a?).cross(c? - a?).length() / 2.0)
+            })
+            .sum();
+        if !indices.is_empty() && !(area > 1e-12) {
+            return Err("its triangles have no area (every vertex on one line)".into());
+        }
         let mode = self.mode;
         let make = move || match mode {
             MeshMode::ConvexHull => SharedShape::convex_hull(&vertices)
