@@ -158,6 +158,7 @@ fn home_outside_limits() {
     assert_eq!(code(&errs[0]), "declutter::world::joint_limit");
     assert_eq!(errs[0].primary_span(), Some(span_of("[0, 0, 0]")));
     assert!(matches!(&errs[0], WorldError::JointLimit { joint, index: 1, .. } if joint == "joint2"));
+    insta::assert_snapshot!(rendered(&errs));
 }
 
 #[test]

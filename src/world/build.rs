@@ -544,6 +544,7 @@ impl LoadCtx<'_> {
                     value: *x,
                     lower: *lo,
                     upper: *hi,
+                    turns: turns.get(index).copied().unwrap_or(true),
                     span: v.span,
                     index,
                 });

@@ -145,7 +145,9 @@ pub enum WorldError {
     },
 
     #[error(
-        "`{what}` of robot `{robot}`: joint `{joint}` = {value:.4} is outside its limits [{lower:.4}, {upper:.4}]"
+        "`{what}` of robot `{robot}`: joint `{joint}` = {} is outside its limits {}",
+        joint_value(*value, *turns),
+        joint_range(*lower, *upper, *turns)
     )]
     #[diagnostic(code(declutter::world::joint_limit))]
     JointLimit {
@@ -155,7 +157,9 @@ pub enum WorldError {
         value: f64,
         lower: f64,
         upper: f64,
-        #[label("`{joint}` must lie in [{lower:.4}, {upper:.4}]")]
+        /// A revolute or continuous joint (radians, shown in degrees too), not a prismatic one (metres).
+        turns: bool,
+        #[label("`{joint}` must lie in {}", joint_range(*lower, *upper, *turns))]
         span: Span,
         index: usize,
     },
@@ -221,5 +225,23 @@ pub(crate) fn mesh_missing_help(uri: &str) -> String {
         "`file://` URIs name an absolute path on this machine".to_string()
     } else {
         "a relative path is resolved from the folder of the file that names it".to_string()
+    }
+}
+
+/// `2.7925 rad (160.0°)` for a turning joint, `0.3000 m` for a sliding one: values are
+/// written in degrees more often than in radians.
+fn joint_value(v: f64, turns: bool) -> String {
+    if turns {
+        format!("{v:.4} rad ({:.1}°)", v.to_degrees())
+    } else {
+        format!("{v:.4} m")
+    }
+}
+
+fn joint_range(lo: f64, hi: f64, turns: bool) -> String {
+    if turns {
+        format!("[{lo:.4}, {hi:.4}] rad ([{:.1}°, {:.1}°])", lo.to_degrees(), hi.to_degrees())
+    } else {
+        format!("[{lo:.4}, {hi:.4}] m")
     }
 }

@@ -212,7 +212,7 @@ impl<'l> MeshCache<'l> {
                 Some((b? - a?).cross(c? - a?).length() / 2.0)
             })
             .sum();
-        if !indices.is_empty() && !(area > 1e-12) {
+        if !indices.is_empty() && area <= 1e-12 {
             return Err("its triangles have no area (every vertex on one line)".into());
         }
         let mode = self.mode;
