@@ -269,3 +269,28 @@ fn check_of_a_library_loads_its_robots() {
         "ok: examples/cell.dcl (a library: no target) — 2 robots, 0 objects, 1 fixed body, 0 grasps\n"
     );
 }
+
+#[test]
+fn compile_stats_prints_one_row_per_query_with_the_schedules_figures() {
+    let dir = TempDir::new("stats");
+    let out = dir.path("s.yaml");
+    let o = run(&["compile", "examples/box_lid.dcl", "--stats", "-o", &out]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(
+        lines.first().map(|l| l.split_whitespace().collect::<Vec<_>>()),
+        Some(vec!["query", "time", "(ms)", "samples", "connected", "paths", "checks"]),
+        "{err}"
+    );
+    // Every row but the time column is what the schedule's `stats` list holds.
+    let s = parse_schedule(&std::fs::read_to_string(&out).expect("schedule written")).expect("parses");
+    assert_eq!(lines.len(), s.stats.len() + 2, "header, one row per query, total: {err}");
+    for (line, q) in lines[1..].iter().zip(&s.stats) {
+        let cols: Vec<&str> = line.split_whitespace().collect();
+        assert_eq!(cols[0..2].join(" "), format!("P({}, {})", q.robot, q.object), "{line}");
+        let figures: Vec<u64> = cols[3..].iter().map(|c| c.parse().expect("a count")).collect();
+        assert_eq!(figures, [q.samples, q.connected, q.paths, q.checks], "{line}");
+    }
+    assert!(lines.last().is_some_and(|l| l.starts_with("total")), "{err}");
+}

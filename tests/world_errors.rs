@@ -461,3 +461,12 @@ fn broken_mesh_of_a_fixed_body_names_the_body() {
     assert!(e.to_string().starts_with("mesh `post.stl` of body `post` cannot be loaded: "), "{e}");
     assert_eq!(e.primary_span(), Some(span_of("drop")));
 }
+
+#[test]
+fn urdf_without_links_is_refused() {
+    let errs = urdf_errors(r#"<robot name="nothing"></robot>"#);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!(code(&errs[0]), "declutter::world::urdf_empty");
+    assert_eq!(errs[0].to_string(), "URDF `/m/arm.urdf` has no links");
+    assert_eq!(errs[0].primary_span(), Some(span_of("\"arm.urdf\"")));
+}

@@ -221,3 +221,22 @@ fn a_mesh_on_one_line_is_refused_and_a_flat_sheet_loads_in_both_modes() {
     assert_eq!(mesh_errors(&sheet, MeshMode::ConvexHull), Vec::<String>::new());
     assert_eq!(mesh_errors(STL, MeshMode::ConvexHull), Vec::<String>::new());
 }
+
+#[test]
+fn a_mesh_scale_stretches_the_shape_per_axis() {
+    // The tetrahedron spans [0, 0.1] on each axis; scaled by (2, 1, 1) it reaches x = 0.2.
+    // A small sphere at x = 0.15 (y = z = 0.01) is inside only if the scale applied.
+    let probe = Object { body: body("probe", Shape::Sphere { radius: 0.002 }, at(0.15, 0.01, 0.01)), grasps: vec![] };
+    let touches = |scale: &str| {
+        let uri = format!("tet.stl\" scale=\"{scale}");
+        let loader = MemLoader::new().with("/m/arm.urdf", arm_urdf(&uri)).with("/m/tet.stl", STL);
+        let scn = scenario(vec![robot("arm", "/m/arm.urdf", vec![0.0], None)], vec![], vec![], vec![probe.clone()]);
+        let opts = WorldOptions { self_collision_samples: 0, ..WorldOptions::default() };
+        let w = build(&scn, &opts, &loader).unwrap_or_else(|e| panic!("{e:?}"));
+        let Check::Touches(s) = w.check(RobotId(0), &[0.0], &CheckCtx::new()) else { panic!("blocked") };
+        s.contains(ObjectId(0))
+    };
+    assert!(!touches("1 1 1"));
+    assert!(touches("2 1 1"));
+    assert!(!touches("1 2 2"), "y and z stretched, x not: the probe is still outside");
+}
