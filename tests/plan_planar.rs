@@ -173,6 +173,26 @@ fn fewest_removals_matches_grid_brute_force() {
     // The check must not be vacuous: most worlds need removals, and so does the pass rate.
     assert!(needing >= 50, "only {needing} worlds need a removal");
     assert!(good_needing * 100 >= 95 * needing, "only {good_needing}/{needing} of the worlds needing removals");
+
+    // The book's performance page quotes these figures: keep them current.
+    let page = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/book/src/performance.md"))
+        .expect("the performance page");
+    let row = |start: &str| page.lines().find(|l| l.starts_with(start)).map(str::to_string);
+    let sizes: Vec<String> =
+        histogram[..=histogram.iter().rposition(|&c| c > 0).unwrap_or(0)].iter().map(ToString::to_string).collect();
+    let wanted = [
+        ("| worlds by grid minimum", format!("{}; {no_path} |", sizes.join(", "))),
+        ("| `fewest_removals` set no larger", format!("| {good} of 100 worlds; {good_needing} of the {needing} ")),
+        ("| `fewest_vertices` (the paper's rule)", format!("| {worse} of {both} worlds with a path |")),
+        (
+            "| extra objects removed",
+            format!("| {extra} in total, {:.2} per world where it is worse |", extra as f64 / worse.max(1) as f64),
+        ),
+    ];
+    for (start, figures) in wanted {
+        let line = row(start).unwrap_or_else(|| panic!("book/src/performance.md has no row `{start}`"));
+        assert!(line.contains(&figures), "book/src/performance.md: `{line}` should say `{figures}`");
+    }
 }
 
 #[test]
