@@ -294,3 +294,22 @@ fn compile_stats_prints_one_row_per_query_with_the_schedules_figures() {
     }
     assert!(lines.last().is_some_and(|l| l.starts_with("total")), "{err}");
 }
+
+#[test]
+fn check_of_a_library_with_objects_reports_their_grasps_then_warns() {
+    let dir = TempDir::new("library_objects");
+    let cell = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/cell.dcl");
+    let text = format!(
+        "use \"{}\"\nobject can cylinder(radius: 3cm, length: 12cm) at (60cm, 0, 6cm) {{\n    \
+         grasp top at (0, 0, 6cm) rot (180deg, 0, 0) approach 5cm repeat 4 about z\n}}\n",
+        cell.display()
+    );
+    std::fs::write(dir.0.join("lib.dcl"), text).expect("library written");
+    let o = run(&["check", &dir.path("lib.dcl")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().collect();
+    assert!(lines[0].ends_with("lib.dcl (a library: no target) — 2 robots, 1 object, 1 fixed body, 4 grasps"), "{err}");
+    assert_eq!(lines[1], "  can: grasps reachable by r1 4/4, r2 4/4", "{err}");
+    assert!(lines[2].contains("declutter::resolve::no_target"), "{err}");
+}

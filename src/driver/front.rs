@@ -78,9 +78,6 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     };
     let report = world::report(&w);
     eprintln!("ok: {name} — {counts}");
-    for w in &summary.warnings {
-        eprint!("{}", render_one(&sources, w, render_options(g)));
-    }
     for o in &report.objects {
         let total = scn.object(o.object).grasps.len();
         let per_robot: Vec<String> =
@@ -91,7 +88,7 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         let warning = Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span };
         eprint!("{}", render_one(&sources, &warning, render_options(g)));
     }
-    EXIT_OK
+    warn_all(&sources, &summary.warnings, g)
 }
 
 /// Prints each warning; `check` still succeeds.
