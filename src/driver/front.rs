@@ -53,23 +53,16 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         plural(summary.fixed, "fixed body").replace("bodys", "bodies"),
         plural(summary.grasps, "grasp")
     );
-    let (scn, name) = if summary.library {
-        // Robots, hands and meshes are loaded all the same: a broken URDF in a cell file
-        // should not wait for the first scenario that uses it.
-        let Some(scn) = summary.library_world else {
-            eprintln!("ok: {} (a library: no target) — {counts}", file.display());
-            return warn_all(&sources, &summary.warnings, g);
-        };
-        (*scn, format!("{} (a library: no target)", file.display()))
-    } else {
-        let mut sources_again = SourceMap::new();
-        let scn = match resolve::resolve(file, &FsLoader, &mut sources_again) {
-            Ok(s) => s,
-            Err(errs) => return fail(&sources_again, &errs, g),
-        };
-        sources = sources_again;
-        let name = scn.name.clone().unwrap_or_else(|| file.display().to_string());
-        (scn, name)
+    let name = match (&summary.name, summary.library) {
+        (_, true) => format!("{} (a library: no target)", file.display()),
+        (Some(n), false) => n.clone(),
+        (None, false) => file.display().to_string(),
+    };
+    // A library's robots, hands and meshes are loaded all the same: a broken URDF in a
+    // cell file should not wait for the first scenario that uses it.
+    let Some(scn) = summary.scenario else {
+        eprintln!("ok: {name} — {counts}");
+        return warn_all(&sources, &summary.warnings, g);
     };
     let opts = g.world_options();
     let w = match world::build(&scn, &opts, &FsLoader) {

@@ -44,10 +44,11 @@ pub struct Summary {
     pub grasps: usize,
     /// Valid but suspicious: for `check` to print (it still succeeds).
     pub warnings: Vec<ResolveWarning>,
-    /// A library with a robot, as a scenario whose target is its first robot's home:
-    /// what `check` builds a world from, so that URDFs, meshes and joint vectors are
-    /// checked before a scenario uses the file. `None` for a scenario (resolve it).
-    pub library_world: Option<Box<Scenario>>,
+    /// What `check` builds a world from: the resolved scenario, or for a library with a
+    /// robot a stand-in whose target is its first robot's home, so that URDFs, meshes and
+    /// joint vectors are checked before a scenario uses the file. `None` for a library
+    /// without robots.
+    pub scenario: Option<Box<Scenario>>,
 }
 
 /// Like [`resolve`], but a file with neither `scenario` nor `target` is accepted as a library.
@@ -64,41 +65,41 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
         // likely meant as a scenario whose `target` was forgotten.
         let own_object = p.objects.iter().map(|o| o.body.span).find(|s| Some(s.file) == root_file);
         let warnings = own_object.map(|span| ResolveWarning::ObjectsWithoutTarget { span }).into_iter().collect();
-        let library_world = p.robots.first().map(|r| {
-            let target = Target::Config { robot: RobotId(0), q: r.home.clone(), span: r.home.span };
-            Box::new(Scenario {
-                name: None,
-                root: root.to_path_buf(),
-                hands: p.hands.clone(),
-                robots: p.robots.clone(),
-                fixed: p.fixed.clone(),
-                objects: p.objects.clone(),
-                target,
-                planner: p.planner.clone(),
-            })
-        });
-        return Ok(Summary {
+        let target =
+            p.robots.first().map(|r| Target::Config { robot: RobotId(0), q: r.home.clone(), span: r.home.span });
+        let stand_in = Scenario {
             name: None,
-            library: true,
-            library_world,
-            warnings,
-            robots: p.robots.len(),
-            objects: p.objects.len(),
-            fixed: p.fixed.len(),
-            grasps: p.objects.iter().map(|o| o.grasps.len()).sum(),
-        });
+            root: root.to_path_buf(),
+            hands: p.hands,
+            robots: p.robots,
+            fixed: p.fixed,
+            objects: p.objects,
+            // Replaced below when there is a robot; without one nothing is built.
+            target: Target::Object { object: ObjectId(0), span: p.anchor },
+            planner: p.planner,
+        };
+        let mut summary = summarize(&stand_in, true, warnings);
+        summary.scenario = target.map(|target| Box::new(Scenario { target, ..stand_in }));
+        return Ok(summary);
     }
     let s = finish(root, p, errors)?;
-    Ok(Summary {
+    let mut summary = summarize(&s, false, Vec::new());
+    summary.scenario = Some(Box::new(s));
+    Ok(summary)
+}
+
+/// The counts `check` prints, without the scenario.
+fn summarize(s: &Scenario, library: bool, warnings: Vec<ResolveWarning>) -> Summary {
+    Summary {
         name: s.name.clone(),
-        library: false,
-        library_world: None,
-        warnings: Vec::new(),
+        library,
+        warnings,
         robots: s.robots.len(),
         objects: s.objects.len(),
         fixed: s.fixed.len(),
         grasps: s.objects.iter().map(|o| o.grasps.len()).sum(),
-    })
+        scenario: None,
+    }
 }
 
 /// True if some file could not be read or parsed in full: it would likely have declared

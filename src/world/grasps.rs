@@ -54,6 +54,8 @@ pub(crate) fn approach_deviation(
     let to_grasp = grasp.pose_world_tcp.inverse();
     let mut q = a.to_vec();
     let mut d = ApproachDeviation::default();
+    // f64::max drops NaN; a NaN sample must make the move crooked, not straight.
+    let worst = |acc: f64, v: f64| if v.is_nan() || acc.is_nan() { f64::NAN } else { acc.max(v) };
     for i in 0..=n {
         check::sample(a, b, i, n, &mut q);
         // The TCP in the grasp frame: the approach runs from z = -approach to z = 0.
@@ -61,8 +63,6 @@ pub(crate) fn approach_deviation(
         let p = rel.translation.vector;
         let along = p.z.clamp(-grasp.approach.max(0.0), 0.0);
         let off = (p.x * p.x + p.y * p.y + (p.z - along) * (p.z - along)).sqrt();
-        // f64::max drops NaN; a NaN sample must make the move crooked, not straight.
-        let worst = |acc: f64, v: f64| if v.is_nan() || acc.is_nan() { f64::NAN } else { acc.max(v) };
         d.off_line = worst(d.off_line, off);
         d.overshoot = worst(d.overshoot, p.z.max(0.0));
         d.angle = worst(d.angle, rel.rotation.angle());
