@@ -198,3 +198,30 @@ fn cli_every_ok_fixture_checks() {
         }
     }
 }
+
+#[test]
+fn quaternion_and_roll_pitch_yaw_resolve_identically() {
+    let yaml = |p: &str| {
+        let mut sources = SourceMap::new();
+        let s = resolve::resolve(Path::new(p), &FsLoader, &mut sources).unwrap();
+        resolve::to_yaml(&s)
+    };
+    let quat = yaml("tests/fixtures/resolve/ok/quat_pose.dcl");
+    let rpy = yaml("tests/fixtures/resolve/ok/rpy_pose.dcl");
+    assert!(quat.contains("rpy: [1.570796, 0, 0]"), "{quat}");
+    assert_eq!(quat, rpy);
+}
+
+#[test]
+fn bare_length_beyond_ten_metres_warns() {
+    let path = Path::new("tests/fixtures/resolve/ok/bare_length.dcl");
+    let mut sources = SourceMap::new();
+    let summary = resolve::check(path, &FsLoader, &mut sources).unwrap();
+    let codes: Vec<String> = summary.warnings.iter().map(|w| w.code_str()).collect();
+    assert_eq!(codes, ["declutter::resolve::large_bare_length"]);
+    insta::assert_snapshot!(render_all(&sources, &summary.warnings, RenderOptions::plain()));
+    // `compile` and `resolve` print it too, and still succeed.
+    let (code, _, stderr) = run(&["--no-color", "resolve", "tests/fixtures/resolve/ok/bare_length.dcl"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("did you mean `40mm` or `40cm`?"), "{stderr}");
+}

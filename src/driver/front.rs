@@ -94,8 +94,11 @@ fn warn_all(sources: &SourceMap, warnings: &[resolve::ResolveWarning], g: &Globa
 
 pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
     let mut sources = SourceMap::new();
-    let scn = match resolve::resolve(file, &FsLoader, &mut sources) {
-        Ok(s) => s,
+    let scn = match resolve::resolve_with_warnings(file, &FsLoader, &mut sources) {
+        Ok((s, warnings)) => {
+            warn_all(&sources, &warnings, g);
+            s
+        }
         Err(errs) => return fail(&sources, &errs, g),
     };
     let opts = g.world_options();

@@ -31,7 +31,11 @@ pub(super) struct Loaded {
 /// Resolves `file` and builds its world; on failure the errors are already printed.
 pub(super) fn load(file: &Path, g: &GlobalOptions, edit: impl FnOnce(&mut Scenario)) -> Result<Loaded, u8> {
     let mut sources = SourceMap::new();
-    let mut scn = resolve::resolve(file, &FsLoader, &mut sources).map_err(|errs| fail(&sources, &errs, g))?;
+    let (mut scn, warnings) =
+        resolve::resolve_with_warnings(file, &FsLoader, &mut sources).map_err(|errs| fail(&sources, &errs, g))?;
+    for w in &warnings {
+        eprint!("{}", crate::diag::render_one(&sources, w, render_options(g)));
+    }
     edit(&mut scn);
     let opts = g.world_options();
     let world = world::build(&scn, &opts, &FsLoader).map_err(|errs| fail(&sources, &errs, g))?;

@@ -156,6 +156,26 @@ pub enum ResolveError {
         help: Option<String>,
     },
 
+    #[error("a bare angle of {value} is {value} radians, more than a full turn")]
+    #[diagnostic(code(declutter::resolve::bare_angle))]
+    BareAngle {
+        value: String,
+        #[label("radians, since no unit is given")]
+        span: Span,
+        #[help]
+        help: String,
+    },
+
+    #[error("`quat(x, y, z, w)` must be a unit quaternion, found norm {norm}")]
+    #[diagnostic(code(declutter::resolve::bad_quaternion))]
+    BadQuaternion {
+        norm: String,
+        #[label("norm {norm}")]
+        span: Span,
+        #[help]
+        help: String,
+    },
+
     #[error("{what} must be a whole number, found `{value}`")]
     #[diagnostic(code(declutter::resolve::not_integer))]
     NotInteger {
@@ -346,6 +366,8 @@ impl Located for ResolveError {
             | WrongCount { span, .. }
             | NotFinite { span }
             | OutOfRange { span, .. }
+            | BareAngle { span, .. }
+            | BadQuaternion { span, .. }
             | NotInteger { span, .. }
             | RepeatZero { span }
             | GraspOnFixed { span, .. }
@@ -392,12 +414,22 @@ pub enum ResolveWarning {
         #[label("an object, but nothing to do with it")]
         span: Span,
     },
+
+    #[error("a bare length of {value} is {value} metres, larger than a robot cell")]
+    #[diagnostic(code(declutter::resolve::large_bare_length))]
+    LargeBareLength {
+        value: String,
+        #[label("metres, since no unit is given")]
+        span: Span,
+        #[help]
+        help: String,
+    },
 }
 
 impl Located for ResolveWarning {
     fn primary_span(&self) -> Option<Span> {
         match self {
-            ResolveWarning::ObjectsWithoutTarget { span } => Some(*span),
+            ResolveWarning::ObjectsWithoutTarget { span } | ResolveWarning::LargeBareLength { span, .. } => Some(*span),
         }
     }
 }

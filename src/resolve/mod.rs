@@ -26,9 +26,19 @@ use crate::diag::{Loader, SourceMap};
 
 /// Parses and resolves the scenario at `root` and every file it uses.
 pub fn resolve(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Result<Scenario, Vec<ResolveError>> {
+    resolve_with_warnings(root, loader, sources).map(|(s, _)| s)
+}
+
+/// Like [`resolve`], with the warnings of a valid scenario (for the CLI to print).
+pub fn resolve_with_warnings(
+    root: &Path,
+    loader: &dyn Loader,
+    sources: &mut SourceMap,
+) -> Result<(Scenario, Vec<ResolveWarning>), Vec<ResolveError>> {
     let (partial, errors) = run(root, loader, sources);
-    let Some(p) = partial else { return Err(errors) };
-    finish(root, p, errors)
+    let Some(mut p) = partial else { return Err(errors) };
+    let warnings = std::mem::take(&mut p.warnings);
+    finish(root, p, errors).map(|s| (s, warnings))
 }
 
 /// What `check` found in a valid file.
@@ -54,7 +64,8 @@ pub struct Summary {
 /// Like [`resolve`], but a file with neither `scenario` nor `target` is accepted as a library.
 pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Result<Summary, Vec<ResolveError>> {
     let (partial, errors) = run(root, loader, sources);
-    let Some(p) = partial else { return Err(errors) };
+    let Some(mut p) = partial else { return Err(errors) };
+    let mut warnings = std::mem::take(&mut p.warnings);
     let root_file = Some(p.anchor.file);
     let errors = drop_follow_ons(errors);
     if p.name.is_none() && p.target.is_none() {
@@ -64,7 +75,7 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
         // A library the user ran directly that declares objects of its own was most
         // likely meant as a scenario whose `target` was forgotten.
         let own_object = p.objects.iter().map(|o| o.body.span).find(|s| Some(s.file) == root_file);
-        let warnings = own_object.map(|span| ResolveWarning::ObjectsWithoutTarget { span }).into_iter().collect();
+        warnings.extend(own_object.map(|span| ResolveWarning::ObjectsWithoutTarget { span }));
         let target =
             p.robots.first().map(|r| Target::Config { robot: RobotId(0), q: r.home.clone(), span: r.home.span });
         let stand_in = Scenario {
@@ -83,7 +94,7 @@ pub fn check(root: &Path, loader: &dyn Loader, sources: &mut SourceMap) -> Resul
         return Ok(summary);
     }
     let s = finish(root, p, errors)?;
-    let mut summary = summarize(&s, false, Vec::new());
+    let mut summary = summarize(&s, false, warnings);
     summary.scenario = Some(Box::new(s));
     Ok(summary)
 }

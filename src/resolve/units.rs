@@ -11,6 +11,10 @@ pub const MAX_LENGTH: f64 = 100.0;
 pub const MIN_SIZE: f64 = 1e-5;
 /// Largest angle written anywhere (radians): a few turns either way.
 pub const MAX_ANGLE: f64 = 100.0;
+/// Largest angle that may be written without a unit: a bare `90` is surely meant as degrees.
+pub const MAX_BARE_ANGLE: f64 = std::f64::consts::TAU;
+/// A bare length beyond this (metres) is warned of: a size in mm or cm without its unit.
+pub const BARE_LENGTH_WARN: f64 = 10.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
@@ -77,6 +81,16 @@ pub fn convert(q: &Quantity, want: Kind) -> Result<f64, ResolveError> {
         }
     };
     let v = q.value * factor;
+    if want == Kind::Angle && q.unit.is_none() && v.abs() > MAX_BARE_ANGLE {
+        return Err(ResolveError::BareAngle {
+            value: written(q),
+            span: q.span,
+            help: format!(
+                "did you mean `{}deg`? A bare angle is in radians; write `deg` or `rad` to say which",
+                written(q)
+            ),
+        });
+    }
     let limit = match want {
         Kind::Length => MAX_LENGTH,
         Kind::Angle => MAX_ANGLE,
@@ -116,6 +130,34 @@ pub fn positive_length(q: &Quantity, what: &str) -> Result<f64, ResolveError> {
         });
     }
     Ok(v)
+}
+
+/// A finite number without unit (a quaternion component).
+pub fn plain(q: &Quantity, what: &str) -> Result<f64, ResolveError> {
+    if let Some(u) = &q.unit {
+        return Err(ResolveError::UnitMismatch {
+            expected: "a plain number",
+            found: format!("the unit `{}`", u.name),
+            span: q.span,
+            help: Some(format!("{what} takes no unit")),
+        });
+    }
+    if !q.value.is_finite() {
+        return Err(ResolveError::NotFinite { span: q.span });
+    }
+    Ok(q.value)
+}
+
+/// The warning for a length written without a unit and larger than [`BARE_LENGTH_WARN`].
+pub fn bare_length_warning(q: &Quantity) -> Option<super::ResolveWarning> {
+    (q.unit.is_none() && q.value.is_finite() && q.value.abs() > BARE_LENGTH_WARN).then(|| {
+        let w = written(q);
+        super::ResolveWarning::LargeBareLength {
+            help: format!("did you mean `{w}mm` or `{w}cm`? A bare length is in metres"),
+            value: w,
+            span: q.span,
+        }
+    })
 }
 
 /// A whole number without unit in `lo..=hi`.

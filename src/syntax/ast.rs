@@ -48,12 +48,21 @@ pub struct List {
     pub span: Span,
 }
 
-/// `at (x, y, z) [rot (roll, pitch, yaw)]`.
+/// `at (x, y, z) [rot (roll, pitch, yaw) | rot quat(x, y, z, w)]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pose {
     pub at: Tuple,
-    pub rot: Option<Tuple>,
+    pub rot: Option<Rotation>,
     pub span: Span,
+}
+
+/// A pose's rotation as written.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Rotation {
+    /// `(roll, pitch, yaw)`: fixed-axis x, then y, then z.
+    Rpy(Tuple),
+    /// `quat(x, y, z, w)`: a quaternion in ROS order; `span` covers `quat(...)`.
+    Quat { xyzw: Tuple, span: Span },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -37,6 +37,7 @@ fn describe(r: Rule) -> &'static str {
         Rule::planner_entry => "a planner setting (`key value`)",
         Rule::pose | Rule::k_at => "`at`",
         Rule::k_rot => "`rot`",
+        Rule::quat | Rule::k_quat => "`quat(x, y, z, w)`",
         Rule::tuple => "a tuple like `(x, y, z)`",
         Rule::list => "a list of joint values like `[0, 90deg]`",
         Rule::quantity | Rule::number => "a number",

@@ -268,10 +268,15 @@ impl Cx<'_> {
 
     fn pose(&self, p: Pair<Rule>) -> R<Pose> {
         let span = self.span(&p);
-        let mut tuples = self.inner(&p).filter(|c| c.as_rule() == Rule::tuple);
-        let at = self.tuple(tuples.next().ok_or_else(|| self.bad(&p))?)?;
-        let rot = match tuples.next() {
-            Some(t) => Some(self.tuple(t)?),
+        let mut parts = self.inner(&p).filter(|c| matches!(c.as_rule(), Rule::tuple | Rule::quat));
+        let at = self.tuple(parts.next().ok_or_else(|| self.bad(&p))?)?;
+        let rot = match parts.next() {
+            Some(q) if q.as_rule() == Rule::quat => {
+                let qspan = self.span(&q);
+                let t = self.inner(&q).find(|c| c.as_rule() == Rule::tuple).ok_or_else(|| self.bad(&q))?;
+                Some(Rotation::Quat { xyzw: self.tuple(t)?, span: qspan })
+            }
+            Some(t) => Some(Rotation::Rpy(self.tuple(t)?)),
             None => None,
         };
         Ok(Pose { at, rot, span })

@@ -92,6 +92,7 @@ impl Lower<'_> {
                 });
                 return None;
             };
+            me.check_bare_length(q);
             if zero_ok {
                 let v = me.ok(convert(q, Kind::Length))?;
                 if v < 0.0 {

@@ -43,6 +43,7 @@ impl Lower<'_> {
             for o in &g.options {
                 match o {
                     ast::GraspOption::Approach { length, span } => {
+                        self.check_bare_length(length);
                         let v = self.ok(convert(length, Kind::Length)).and_then(|v| {
                             if v < 0.0 {
                                 self.errors.push(ResolveError::OutOfRange {

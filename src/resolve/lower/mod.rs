@@ -13,11 +13,14 @@ mod grasps;
 mod planner;
 
 use super::load::{dir_name, normalize, Sourced};
-use super::units::{convert, Kind};
+use super::units::{self, convert, Kind};
 use super::*;
 use crate::diag::{FileId, Loader, SourceMap, Span};
 use crate::syntax::ast;
 use crate::syntax::did_you_mean;
+
+/// How far from 1 a quaternion's norm may be before it is refused rather than normalised.
+pub const QUAT_NORM_TOLERANCE: f64 = 0.01;
 
 /// Most joints a robot may have.
 pub const MAX_JOINTS: usize = 64;
@@ -37,6 +40,8 @@ pub struct Partial {
     pub planner: PlannerSettings,
     /// Where a missing target or robot is reported: the `scenario` line, or the root file's start.
     pub anchor: Span,
+    /// Valid but suspicious (a bare length of 40 m), in source order.
+    pub warnings: Vec<ResolveWarning>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -67,6 +72,7 @@ struct Lower<'a> {
     /// Grasps expanded so far over all objects, against [`grasps::MAX_GRASPS_TOTAL`];
     /// `None` once a grasp limit was reported.
     grasp_total: Option<usize>,
+    warnings: Vec<ResolveWarning>,
 }
 
 /// Names listed in an "unknown name" help when none is close; more would bury the message.
@@ -90,7 +96,15 @@ pub fn lower(
     sources: &SourceMap,
     errors: &mut Vec<ResolveError>,
 ) -> Partial {
-    let mut lw = Lower { sources, loader, errors, names: HashMap::new(), order: Vec::new(), grasp_total: Some(0) };
+    let mut lw = Lower {
+        sources,
+        loader,
+        errors,
+        names: HashMap::new(),
+        order: Vec::new(),
+        grasp_total: Some(0),
+        warnings: Vec::new(),
+    };
     let mut hands_ast = Vec::new();
     let mut robots_ast = Vec::new();
     let mut fixed_ast = Vec::new();
@@ -169,7 +183,8 @@ pub fn lower(
         target = lw.target(t, &robots);
     }
 
-    Partial { name: name.map(|(n, _)| n), hands, robots, fixed, objects, target, planner, anchor }
+    let warnings = std::mem::take(&mut lw.warnings);
+    Partial { name: name.map(|(n, _)| n), hands, robots, fixed, objects, target, planner, anchor, warnings }
 }
 impl Lower<'_> {
     /// Records a name; false (and an error) if it is taken.
@@ -287,6 +302,9 @@ impl Lower<'_> {
         let mut v = Vector3::zeros();
         let mut ok = true;
         for (i, q) in t.items.iter().enumerate() {
+            if kind == Kind::Length {
+                self.check_bare_length(q);
+            }
             match self.ok(convert(q, kind)) {
                 Some(x) => v[i] = x,
                 None => ok = false,
@@ -297,12 +315,63 @@ impl Lower<'_> {
 
     fn pose(&mut self, p: &ast::Pose) -> Option<Pose> {
         let xyz = self.vec3(&p.at, Kind::Length, "a position");
-        let rpy = match &p.rot {
-            Some(r) => self.vec3(r, Kind::Angle, "a rotation"),
-            None => Some(Vector3::zeros()),
+        let rot = match &p.rot {
+            Some(ast::Rotation::Rpy(r)) => {
+                self.vec3(r, Kind::Angle, "a rotation").map(|v| UnitQuaternion::from_euler_angles(v.x, v.y, v.z))
+            }
+            Some(ast::Rotation::Quat { xyzw, span }) => self.quaternion(xyzw, *span),
+            None => Some(UnitQuaternion::identity()),
         };
-        let (xyz, rpy) = (xyz?, rpy?);
-        Some(Isometry3::from_parts(Translation3::from(xyz), UnitQuaternion::from_euler_angles(rpy.x, rpy.y, rpy.z)))
+        Some(Isometry3::from_parts(Translation3::from(xyz?), rot?))
+    }
+
+    /// `quat(x, y, z, w)`, ROS order: plain numbers whose norm is within
+    /// [`QUAT_NORM_TOLERANCE`] of 1 (a typo, not rounding, beyond that), normalised.
+    fn quaternion(&mut self, t: &ast::Tuple, span: Span) -> Option<UnitQuaternion<f64>> {
+        if t.items.len() != 4 {
+            self.errors.push(ResolveError::WrongCount {
+                what: "a quaternion".to_string(),
+                expected: "4 values (x, y, z, w)".to_string(),
+                found: t.items.len(),
+                span: t.span,
+            });
+            return None;
+        }
+        let mut c = [0.0; 4];
+        let mut ok = true;
+        for (v, q) in c.iter_mut().zip(&t.items) {
+            match self.ok(units::plain(q, "a quaternion component")) {
+                Some(x) => *v = x,
+                None => ok = false,
+            }
+        }
+        if !ok {
+            return None;
+        }
+        let [x, y, z, w] = c;
+        let q = nalgebra::Quaternion::new(w, x, y, z);
+        let norm = q.norm();
+        if (norm - 1.0).abs() > QUAT_NORM_TOLERANCE {
+            let help = if norm == 0.0 {
+                "a rotation's quaternion cannot be zero; the identity is `quat(0, 0, 0, 1)` (x, y, z, w: the scalar last, as in ROS)".to_string()
+            } else {
+                format!(
+                    "declutter normalises a quaternion whose norm is within 1% of 1; this one is off by {:.1}% — check the values and their order (x, y, z, w: the scalar last, as in ROS)",
+                    (norm - 1.0).abs() * 100.0
+                )
+            };
+            self.errors.push(ResolveError::BadQuaternion { norm: format!("{norm:.6}"), span, help });
+            return None;
+        }
+        Some(UnitQuaternion::from_quaternion(q))
+    }
+
+    /// Warns of a bare length beyond [`units::BARE_LENGTH_WARN`]: a size in mm or cm
+    /// written without its unit is otherwise silently metres.
+    fn check_bare_length(&mut self, q: &ast::Quantity) {
+        if let Some(w) = units::bare_length_warning(q) {
+            self.warnings.push(w);
+        }
     }
 
     fn opt_pose(&mut self, p: Option<&ast::Pose>) -> Pose {
