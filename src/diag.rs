@@ -89,6 +89,16 @@ impl SourceMap {
         self.files.iter().position(|f| f.path == path).map(|i| FileId(i as u32))
     }
 
+    /// The byte offset of a 1-based line and (character) column in a file, as YAML and
+    /// JSON parsers report positions.
+    pub fn offset_of(&self, file: FileId, line: u64, column: u64) -> Option<usize> {
+        let text = &self.get(file)?.text;
+        let start: usize = text.split_inclusive('\n').take(line.checked_sub(1)? as usize).map(str::len).sum();
+        let line_text = text.get(start..)?.split('\n').next()?;
+        let col: usize = line_text.chars().take(column.saturating_sub(1) as usize).map(char::len_utf8).sum();
+        Some(start + col)
+    }
+
     /// 1-based line and column of a span's start, for one-line messages.
     pub fn line_col(&self, span: Span) -> Option<(usize, usize)> {
         let f = self.get(span.file)?;

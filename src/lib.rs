@@ -7,10 +7,11 @@
 //! (URDF, meshes, kinematics, labelled collision checks) -> `plan` (PRMwO roadmaps,
 //! `findPath`, the AND/OR graph) -> `schedule` (actions, YAML/JSON/DOT) -> `verify`
 //! (an independent re-check). `diag` holds spans and rendering; `driver` runs the
-//! stages for the command line.
+//! stages for the command line; `import` turns a MoveIt scene into scenario text.
 
 pub mod diag;
 pub mod driver;
+pub mod import;
 pub mod plan;
 pub mod resolve;
 pub mod schedule;

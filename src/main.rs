@@ -77,6 +77,9 @@ enum Command {
         /// The schedule to check, as `declutter compile` wrote it (YAML or JSON).
         schedule: PathBuf,
     },
+    /// Write a scenario from another tool's scene description.
+    #[command(subcommand)]
+    Import(ImportCommand),
     /// Print the AND/OR precedence graph in Graphviz DOT (exit 2, with the reason, if infeasible).
     ///
     /// Example: declutter graph examples/box_lid.dcl | dot -Tsvg > g.svg
@@ -89,6 +92,29 @@ enum Command {
         /// Override the scenario's objective (as for `compile`).
         #[arg(long, value_parser = ["fewest_removals", "fewest_vertices"])]
         objective: Option<String>,
+    },
+}
+
+#[derive(Subcommand)]
+enum ImportCommand {
+    /// A MoveIt planning scene (YAML) and, optionally, a motion-plan request.
+    ///
+    /// Example: declutter import moveit scene.yaml --request req.yaml --cell cell.dcl --removable '^can' -o scene.dcl
+    Moveit {
+        /// The planning scene, as MoveIt writes it in YAML (`moveit_msgs/PlanningScene`).
+        scene: PathBuf,
+        /// A motion-plan request: its start state becomes the robots' `home`, its joint goal the `target`.
+        #[arg(long)]
+        request: Option<PathBuf>,
+        /// A cell file whose robots, hands, fixed bodies and planner block are written with the scene.
+        #[arg(long)]
+        cell: Option<PathBuf>,
+        /// Objects whose id matches this regular expression become removable `object`s (else `fixed`).
+        #[arg(long, value_name = "REGEX")]
+        removable: Option<String>,
+        /// The scenario file to write (mesh files are written beside it).
+        #[arg(long, short)]
+        out: PathBuf,
     },
 }
 
@@ -111,6 +137,9 @@ fn main() -> ExitCode {
             driver::compile(&file, &global, &driver::CompileOptions { seed, objective, format, out, stats })
         }
         Command::Verify { file, schedule } => driver::verify(&file, &schedule, &global),
+        Command::Import(ImportCommand::Moveit { scene, request, cell, removable, out }) => {
+            driver::import_moveit(&driver::ImportOptions { scene, request, cell, removable, out }, &global)
+        }
         Command::Graph { file, seed, objective } => {
             driver::graph(&file, &global, &driver::GraphOptions { seed, objective })
         }

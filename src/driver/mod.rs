@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 mod commands;
 mod compile;
+mod import_cmd;
 mod pipeline;
 mod verify_cmd;
 
@@ -14,6 +15,7 @@ mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};
 pub use front::render_report;
+pub use import_cmd::{import_moveit, ImportOptions};
 
 /// Output format of a schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
