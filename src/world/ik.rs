@@ -6,8 +6,8 @@ use nalgebra::{Isometry3, Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::build::RobotModel;
 use super::chain::Chain;
+use super::robot::RobotModel;
 use super::urdf::Motion;
 use super::Config;
 use crate::resolve::Pose;
