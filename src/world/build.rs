@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Isometry3;
 
+use super::analytic::Analytic;
 use super::chain::{Chain, ChainError};
 use super::check::{self, CheckCtx};
 use super::error::WorldError;
@@ -74,7 +75,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             }
         }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
+        let analytic = Analytic::detect(&chain);
         robots.push(RobotModel {
+            analytic,
             name: r.name.clone(),
             chain,
             pose_world_base: r.pose_world_base,

@@ -6,6 +6,7 @@ use nalgebra::{Isometry3, Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::analytic::{self, Analytic};
 use super::chain::Chain;
 use super::robot::RobotModel;
 use super::urdf::Motion;
@@ -73,12 +74,23 @@ pub(crate) fn rotational(chain: &Chain) -> Vec<bool> {
 
 /// Refines `q` towards `target` (TCP in the base frame); true when it converged.
 pub(crate) fn refine(m: &RobotModel, target: &Isometry3<f64>, q: &mut [f64], rot: &[bool]) -> bool {
-    let n = m.chain.dof();
+    refine_chain(&m.chain, &m.pose_flange_tcp, target, q, rot)
+}
+
+/// [`refine`] on a bare chain and TCP offset.
+pub(crate) fn refine_chain(
+    chain: &Chain,
+    pose_flange_tcp: &Isometry3<f64>,
+    target: &Isometry3<f64>,
+    q: &mut [f64],
+    rot: &[bool],
+) -> bool {
+    let n = chain.dof();
     let mut jac = Matrix6xX::zeros(n);
     let mut jac_trial = Matrix6xX::zeros(n);
     let mut trial = q.to_vec();
     let mut lambda = 1e-2;
-    let cur = m.chain.jacobian(q, &m.pose_flange_tcp, &mut jac);
+    let cur = chain.jacobian(q, pose_flange_tcp, &mut jac);
     let mut err = pose_error(target, &cur);
     let mut norm = err.norm();
     for _ in 0..MAX_ITERATIONS {
@@ -96,10 +108,10 @@ pub(crate) fn refine(m: &RobotModel, target: &Isometry3<f64>, q: &mut [f64], rot
         for (k, t) in trial.iter_mut().enumerate() {
             *t = q[k] + jac.column(k).dot(&y);
         }
-        clamp_into(&m.chain, &mut trial, rot);
+        clamp_into(chain, &mut trial, rot);
         // The Jacobian pass computes the pose on the way, with the same arithmetic as
         // `fk_flange`: most steps are accepted, and then it is needed anyway.
-        let next = m.chain.jacobian(&trial, &m.pose_flange_tcp, &mut jac_trial);
+        let next = chain.jacobian(&trial, pose_flange_tcp, &mut jac_trial);
         let next_err = pose_error(target, &next);
         let next_norm = next_err.norm();
         if next_norm < norm {
@@ -125,13 +137,18 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
         return out;
     }
     let target = m.pose_world_base.inverse() * pose_world_tcp;
+    if let Some(a) = &m.analytic {
+        let mut all = closed_form(m, a, &target);
+        all.truncate(max_solutions);
+        return all;
+    }
     let rot = rotational(&m.chain);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     // Each start that converges buys more starts, up to the cap: a pose out of reach
     // costs `FIRST_STARTS` attempts, one with many solutions up to the full budget.
     const FIRST_STARTS: usize = 24;
     const STARTS_PER_SOLUTION: usize = 12;
-    let cap = FIRST_STARTS + STARTS_PER_SOLUTION * max_solutions;
+    let cap = STARTS_PER_SOLUTION.saturating_mul(max_solutions).saturating_add(FIRST_STARTS);
     let mut converged = 0;
     let mut q = vec![0.0; m.chain.dof()];
     let dof = q.len();
@@ -162,9 +179,92 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
 /// A configuration reaching `pose_world_tcp` starting from `start` (the nearest one, usually).
 pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -> Option<Config> {
     let target = m.pose_world_base.inverse() * pose_world_tcp;
+    if let Some(a) = &m.analytic {
+        let dist = |c: &Config| c.iter().zip(start).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+        return closed_form(m, a, &target).into_iter().min_by(|x, y| dist(x).total_cmp(&dist(y)));
+    }
     let rot = rotational(&m.chain);
     let mut q = start.to_vec();
     refine(m, &target, &mut q, &rot).then_some(Config(q))
+}
+
+/// Every in-limit configuration reaching `target` (TCP, base frame) by the closed
+/// form: first each posture at its turn nearest home, nearest home first, then the
+/// same postures turned by whole turns of a joint where the limits allow.
+fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Config> {
+    let flange = target * m.pose_flange_tcp.inverse();
+    let home: &[f64] = if m.home.len() == 6 { &m.home } else { &[0.0; 6] };
+    let dist = |q: &[f64]| q.iter().zip(home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+    let mut nearest: Vec<Vec<f64>> = Vec::new();
+    let mut turned: Vec<Vec<f64>> = Vec::new();
+    let mut rot = None;
+    for raw in a.solve(&flange) {
+        let mut q = raw.to_vec();
+        if !q.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        // Rounding near a singularity (acos of ±1) can cost digits: polish with the
+        // numeric step, which converges in one or two iterations from here.
+        let err = pose_error(target, &(m.chain.fk_flange(&q) * m.pose_flange_tcp));
+        if err.fixed_rows::<3>(0).norm() >= IK_TOLERANCE || err.fixed_rows::<3>(3).norm() >= IK_TOLERANCE {
+            let rot = rot.get_or_insert_with(|| rotational(&m.chain));
+            if err.norm() > analytic::ACCEPT || !refine(m, target, &mut q, rot) {
+                continue;
+            }
+        }
+        let Some(turns) = in_limits(&m.chain.limits, &q, home) else { continue };
+        let mut variants = vec![Vec::with_capacity(6)];
+        for options in &turns {
+            variants = variants
+                .into_iter()
+                .flat_map(|v| {
+                    options.iter().map(move |x| {
+                        let mut v = v.clone();
+                        v.push(*x);
+                        v
+                    })
+                })
+                .collect();
+        }
+        let mut variants = variants.into_iter();
+        if let Some(first) = variants.next() {
+            nearest.push(first);
+        }
+        turned.extend(variants);
+    }
+    nearest.sort_by(|x, y| dist(x).total_cmp(&dist(y)));
+    turned.sort_by(|x, y| dist(x).total_cmp(&dist(y)));
+    let mut out: Vec<Config> = Vec::new();
+    for q in nearest.into_iter().chain(turned) {
+        if out.iter().all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > DISTINCT)) {
+            out.push(Config(q));
+        }
+    }
+    out
+}
+
+/// Per joint, the values `q + 2πk` inside the limits, the one nearest home first;
+/// `None` when some joint has none.
+fn in_limits(limits: &[(f64, f64)], q: &[f64], home: &[f64]) -> Option<Vec<Vec<f64>>> {
+    use std::f64::consts::TAU;
+    let slack = super::check::LIMIT_SLACK;
+    let mut out = Vec::with_capacity(q.len());
+    for ((v, (lo, hi)), h) in q.iter().zip(limits).zip(home) {
+        let mut x = v - ((v - lo) / TAU).floor() * TAU;
+        let mut options = Vec::new();
+        while x <= hi + slack {
+            if x >= lo - slack {
+                options.push(x.clamp(*lo, *hi));
+            }
+            x += TAU;
+        }
+        if options.is_empty() {
+            return None;
+        }
+        options.sort_by(|a, b| (a - h).abs().total_cmp(&(b - h).abs()));
+        out.push(options);
+    }
+    Some(out)
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@
 //! objects does it touch?". Geometry code never sees spans; errors name ids and the
 //! CLI maps them back to declarations.
 
+mod analytic;
 mod build;
 mod chain;
 mod check;

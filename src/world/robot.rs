@@ -4,6 +4,7 @@
 
 use std::ops::Range;
 
+use super::analytic::Analytic;
 use super::chain::Chain;
 use super::scene::Scene;
 use super::shapes::Placed;
@@ -38,6 +39,8 @@ pub(crate) struct RobotModel {
     pub scene: Scene,
     pub home: Config,
     pub drop: Config,
+    /// The closed-form IK solver, when the arm is of a family it knows.
+    pub analytic: Option<Analytic>,
 }
 
 /// The contract of every public method taking a configuration (documented on
