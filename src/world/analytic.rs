@@ -21,6 +21,9 @@ use super::urdf::Motion;
 
 /// Axes closer than this to parallel / intersecting count as such (metres, sines).
 const GEOMETRY_EPS: f64 = 1e-9;
+/// Margins (from ±1 for an `acos`, from 0 for a square root) below which a solution
+/// is confirmed by forward kinematics.
+const CONDITION: f64 = 1e-6;
 /// A closed-form solution is accepted when its forward kinematics is this close.
 pub(crate) const ACCEPT: f64 = 1e-7;
 
@@ -117,6 +120,13 @@ impl Analytic {
     /// Every solution for the flange pose `target` (base frame), angles in (-π, π].
     /// Not filtered by limits or checked against forward kinematics.
     pub fn solve(&self, target: &Isometry3<f64>) -> Vec<[f64; 6]> {
+        self.solve_conditioned(target).into_iter().map(|(q, _)| q).collect()
+    }
+
+    /// [`Analytic::solve`], each solution with whether it is well conditioned: no
+    /// `acos` of nearly ±1 and no near-singular wrist on its way, so rounding cannot
+    /// have cost more than a few digits and forward kinematics need not confirm it.
+    pub fn solve_conditioned(&self, target: &Isometry3<f64>) -> Vec<([f64; 6], bool)> {
         let mut out = Vec::with_capacity(8);
         let [a1, a2, a3, a4, a5, a6] = &self.axes;
         // Rotation and motion of the whole arm, relative to q = 0.
@@ -128,13 +138,16 @@ impl Analytic {
         match self.family {
             Family::SphericalWrist { centre } => {
                 let wc = to_target(&centre);
-                for q1 in plane_angle(a1, &(wc - a1.p), &a2.w, a2.w.dot(&(centre - a1.p))).into_iter().flatten() {
+                let (q1s, ok1) = plane_angle(a1, &(wc - a1.p), &a2.w, a2.w.dot(&(centre - a1.p)));
+                for q1 in q1s.into_iter().flatten() {
                     let wp = a1.turn(-q1, &wc);
-                    for (q2, q3) in planar_2r(a2, a3, &centre, &wp) {
+                    let (q23, ok23) = planar_2r(a2, a3, &centre, &wp);
+                    for (q2, q3) in q23 {
                         let r123 = a1.rot(q1) * a2.rot(q2) * a3.rot(q3);
                         let m = r123.inverse() * r_all;
-                        for (q4, q5, q6) in wrist(a4, a5, a6, &m) {
-                            out.push([q1, q2, q3, q4, q5, q6].map(wrap_pi));
+                        let (q456, ok456) = wrist(a4, a5, a6, &m);
+                        for (q4, q5, q6) in q456 {
+                            out.push(([q1, q2, q3, q4, q5, q6].map(wrap_pi), ok1 && ok23 && ok456));
                         }
                     }
                 }
@@ -143,11 +156,12 @@ impl Analytic {
                 let pt = to_target(&p56);
                 let d = a2.w;
                 let a6_world = r_all * a6.w;
-                for q1 in plane_angle(a1, &(pt - a1.p), &d, d.dot(&(p56 - a1.p))).into_iter().flatten() {
+                let (q1s, ok1) = plane_angle(a1, &(pt - a1.p), &d, d.dot(&(p56 - a1.p)));
+                for q1 in q1s.into_iter().flatten() {
                     let r1 = a1.rot(q1);
                     let k = d.dot(&(r1.inverse() * a6_world));
                     // d · Rot5(q5) w6 = k: `plane_angle` turns the other way.
-                    let turned = plane_angle(&Axis { w: a5.w, p: Vector3::zeros() }, &a6.w, &d, k);
+                    let (turned, ok5) = plane_angle(&Axis { w: a5.w, p: Vector3::zeros() }, &a6.w, &d, k);
                     for q5 in turned.into_iter().flatten().map(|t| -t) {
                         // N = R1ᵀ R_all = Rot(d, φ) Rot5 Rot6, φ = q2 + q3 + q4.
                         let n = r1.inverse() * r_all;
@@ -158,8 +172,12 @@ impl Analytic {
                         let phi = angle_to(&d, &v, &(r_phi * v));
                         let x = a1.turn(-q1, &pt);
                         let y = x - a2.rot(phi) * (p56 - a4.p);
-                        for (q2, q3) in planar_2r(a2, a3, &a4.p, &y) {
-                            out.push([q1, q2, q3, phi - q2 - q3, q5, q6].map(wrap_pi));
+                        // Axis 6 near axis 2's direction: the wrist is near its singularity.
+                        let ok6 = u.cross(&a6.w).norm() > CONDITION;
+                        let (q23, ok23) = planar_2r(a2, a3, &a4.p, &y);
+                        for (q2, q3) in q23 {
+                            let q = [q1, q2, q3, phi - q2 - q3, q5, q6].map(wrap_pi);
+                            out.push((q, ok1 && ok5 && ok6 && ok23));
                         }
                     }
                 }
@@ -217,7 +235,7 @@ fn angle_to(w: &Vector3<f64>, u: &Vector3<f64>, v: &Vector3<f64>) -> f64 {
 
 /// The angles `t` with `d · Rot(axis, -t) x = k` when `axis.p` is the origin of `x`
 /// (`x` relative to the axis point, `k` likewise): `a cos t + b sin t = c`.
-fn plane_angle(axis: &Axis, x: &Vector3<f64>, d: &Vector3<f64>, k: f64) -> [Option<f64>; 2] {
+fn plane_angle(axis: &Axis, x: &Vector3<f64>, d: &Vector3<f64>, k: f64) -> ([Option<f64>; 2], bool) {
     let w = axis.w;
     let along = w * w.dot(x);
     let a = d.dot(&(x - along));
@@ -227,22 +245,22 @@ fn plane_angle(axis: &Axis, x: &Vector3<f64>, d: &Vector3<f64>, k: f64) -> [Opti
 }
 
 /// Solutions of `a cos t + b sin t = c`.
-fn two_angles(a: f64, b: f64, c: f64) -> [Option<f64>; 2] {
+fn two_angles(a: f64, b: f64, c: f64) -> ([Option<f64>; 2], bool) {
     let r = a.hypot(b);
     if r < GEOMETRY_EPS {
-        return [None, None];
+        return ([None, None], false);
     }
     let ratio = c / r;
     if ratio.abs() > 1.0 + 1e-9 {
-        return [None, None];
+        return ([None, None], false);
     }
     let base = b.atan2(a);
     let delta = ratio.clamp(-1.0, 1.0).acos();
-    [Some(base + delta), Some(base - delta)]
+    ([Some(base + delta), Some(base - delta)], 1.0 - ratio.abs() > CONDITION && r > CONDITION)
 }
 
 /// Two parallel axes moving `x0` (on a plane across them) onto `target`: (q2, q3) pairs.
-fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> Vec<(f64, f64)> {
+fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> (Vec<(f64, f64)>, bool) {
     let w = a2.w;
     // Subproblem 3 about axis 3: |Rot3(q3) x0 - p2| = |target - p2|, across w.
     let across = |v: Vector3<f64>| v - w * w.dot(&v);
@@ -252,11 +270,11 @@ fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> 
     let (nu, nv) = (u.norm(), v.norm());
     let mut out = Vec::with_capacity(2);
     if nu < GEOMETRY_EPS || nv < GEOMETRY_EPS {
-        return out;
+        return (out, false);
     }
     let c = (nu * nu + nv * nv - delta * delta) / (2.0 * nu * nv);
     if c.abs() > 1.0 + 1e-9 {
-        return out;
+        return (out, false);
     }
     let theta0 = w.dot(&u.cross(&v)).atan2(u.dot(&v));
     let dt = c.clamp(-1.0, 1.0).acos();
@@ -268,11 +286,11 @@ fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> 
             break;
         }
     }
-    out
+    (out, 1.0 - c.abs() > CONDITION && delta > CONDITION)
 }
 
 /// Subproblem 2 and 1 on a spherical wrist: `Rot4 Rot5 Rot6 = m`.
-fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> Vec<(f64, f64, f64)> {
+fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> (Vec<(f64, f64, f64)>, bool) {
     let (w4, w5, w6) = (a4.w, a5.w, a6.w);
     let x = w6;
     let y = m * w6;
@@ -285,7 +303,7 @@ fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> Vec<(f64, f64, 
     let g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c45) / n.norm_squared();
     let mut out = Vec::with_capacity(2);
     if g2 < -1e-9 {
-        return out;
+        return (out, false);
     }
     let g = g2.max(0.0).sqrt();
     for gamma in [g, -g] {
@@ -300,7 +318,7 @@ fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> Vec<(f64, f64, 
             break;
         }
     }
-    out
+    (out, g2 > CONDITION)
 }
 
 #[cfg(test)]

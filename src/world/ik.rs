@@ -193,78 +193,74 @@ pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -
 /// same postures turned by whole turns of a joint where the limits allow.
 fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Config> {
     let flange = target * m.pose_flange_tcp.inverse();
-    let home: &[f64] = if m.home.len() == 6 { &m.home } else { &[0.0; 6] };
-    let dist = |q: &[f64]| q.iter().zip(home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
-    let mut nearest: Vec<Vec<f64>> = Vec::new();
-    let mut turned: Vec<Vec<f64>> = Vec::new();
+    let home: [f64; 6] = std::array::from_fn(|k| m.home.get(k).copied().unwrap_or(0.0));
+    let dist = |q: &[f64; 6]| q.iter().zip(&home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+    // (distance from home, turned by a whole turn?, configuration)
+    let mut found: Vec<(f64, bool, [f64; 6])> = Vec::with_capacity(16);
     let mut rot = None;
-    for raw in a.solve(&flange) {
-        let mut q = raw.to_vec();
+    for (mut q, sure) in a.solve_conditioned(&flange) {
         if !q.iter().all(|v| v.is_finite()) {
             continue;
         }
-        // Rounding near a singularity (acos of ±1) can cost digits: polish with the
-        // numeric step, which converges in one or two iterations from here.
-        let err = pose_error(target, &(m.chain.fk_flange(&q) * m.pose_flange_tcp));
+        // Rounding near a singularity (acos of ±1) can cost digits: confirm, and polish
+        // with the numeric step, which converges in one or two iterations from there.
+        let err = if sure { Vector6::zeros() } else { pose_error(&flange, &m.chain.fk_flange(&q)) };
         if err.fixed_rows::<3>(0).norm() >= IK_TOLERANCE || err.fixed_rows::<3>(3).norm() >= IK_TOLERANCE {
             let rot = rot.get_or_insert_with(|| rotational(&m.chain));
             if err.norm() > analytic::ACCEPT || !refine(m, target, &mut q, rot) {
                 continue;
             }
         }
-        let Some(turns) = in_limits(&m.chain.limits, &q, home) else { continue };
-        let mut variants = vec![Vec::with_capacity(6)];
-        for options in &turns {
-            variants = variants
-                .into_iter()
-                .flat_map(|v| {
-                    options.iter().map(move |x| {
-                        let mut v = v.clone();
-                        v.push(*x);
-                        v
-                    })
-                })
-                .collect();
+        let Some((turns, counts)) = in_limits(&m.chain.limits, &q, &home) else { continue };
+        // Every combination of the joints' in-limit turns, the nearest-home one first.
+        let mut digit = [0usize; 6];
+        loop {
+            let v: [f64; 6] = std::array::from_fn(|k| turns[k][digit[k]]);
+            found.push((dist(&v), digit != [0; 6], v));
+            let Some(k) = (0..6).find(|&k| digit[k] + 1 < counts[k]) else { break };
+            digit[k] += 1;
+            digit[..k].fill(0);
         }
-        let mut variants = variants.into_iter();
-        if let Some(first) = variants.next() {
-            nearest.push(first);
-        }
-        turned.extend(variants);
     }
-    nearest.sort_by(|x, y| dist(x).total_cmp(&dist(y)));
-    turned.sort_by(|x, y| dist(x).total_cmp(&dist(y)));
-    let mut out: Vec<Config> = Vec::new();
-    for q in nearest.into_iter().chain(turned) {
+    found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
+    let mut out: Vec<Config> = Vec::with_capacity(found.len());
+    for (_, _, q) in found {
         if out.iter().all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > DISTINCT)) {
-            out.push(Config(q));
+            out.push(Config(q.to_vec()));
         }
     }
     out
 }
 
-/// Per joint, the values `q + 2πk` inside the limits, the one nearest home first;
-/// `None` when some joint has none.
-fn in_limits(limits: &[(f64, f64)], q: &[f64], home: &[f64]) -> Option<Vec<Vec<f64>>> {
+/// At most this many whole-turn variants of one joint are kept (limits wider than
+/// ±8π are not seen in practice).
+const MAX_TURNS: usize = 8;
+
+/// Per joint, the values `q + 2πk` inside the limits, the one nearest home first, and
+/// how many there are; `None` when some joint has none.
+fn in_limits(limits: &[(f64, f64)], q: &[f64; 6], home: &[f64; 6]) -> Option<([[f64; MAX_TURNS]; 6], [usize; 6])> {
     use std::f64::consts::TAU;
     let slack = super::check::LIMIT_SLACK;
-    let mut out = Vec::with_capacity(q.len());
-    for ((v, (lo, hi)), h) in q.iter().zip(limits).zip(home) {
+    let mut turns = [[0.0; MAX_TURNS]; 6];
+    let mut counts = [0usize; 6];
+    for k in 0..6 {
+        let (v, (lo, hi), h) = (q[k], limits[k], home[k]);
         let mut x = v - ((v - lo) / TAU).floor() * TAU;
-        let mut options = Vec::new();
-        while x <= hi + slack {
+        let options = &mut turns[k];
+        let n = &mut counts[k];
+        while x <= hi + slack && *n < MAX_TURNS {
             if x >= lo - slack {
-                options.push(x.clamp(*lo, *hi));
+                options[*n] = x.clamp(lo, hi);
+                *n += 1;
             }
             x += TAU;
         }
-        if options.is_empty() {
+        if *n == 0 {
             return None;
         }
-        options.sort_by(|a, b| (a - h).abs().total_cmp(&(b - h).abs()));
-        out.push(options);
+        options[..*n].sort_by(|a, b| (a - h).abs().total_cmp(&(b - h).abs()));
     }
-    Some(out)
+    Some((turns, counts))
 }
 
 #[cfg(test)]
