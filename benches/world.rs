@@ -1,5 +1,6 @@
 //! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
-//! removable objects, cycling through 256 seeded random configurations.
+//! removable objects, cycling through 256 seeded random configurations; and the
+//! inverse kinematics of one grasp pose, all solutions.
 //!
 //! Measured twice: wall time (criterion's default), and the benchmark thread's own
 //! CPU time (`CLOCK_THREAD_CPUTIME_ID`), which is what one core spends per
@@ -100,6 +101,16 @@ fn bench_cpu(c: &mut Criterion<CpuTime>) {
 }
 
 fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
+    // Inverse kinematics of one grasp pose, every solution: the TCP above the table,
+    // pointing down, as a top grasp of a can leaves it.
+    let w = world(10);
+    let q = [0.3, 0.7, 1.3, 0.2, 1.1, 0.5];
+    let pose = w.fk_tcp(RobotId(0), &q);
+    let n = w.ik(RobotId(0), &pose, 1, usize::MAX).len();
+    eprintln!("ik: {n} in-limit solutions for the grasp pose");
+    c.bench_function(&format!("{tag}ik_tx90_sah_all_solutions"), |b| {
+        b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, usize::MAX)))
+    });
     for n in [10, 200] {
         let w = world(n);
         let qs = configs(&w);

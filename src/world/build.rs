@@ -2,14 +2,16 @@
 //! the joint vectors, find self-collision pairs worth checking, and check that
 //! `home` and `drop` are free.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Isometry3;
 
+use super::analytic::Analytic;
 use super::chain::{Chain, ChainError};
-use super::check::{self, CheckCtx, Entry, Owner, Scene};
+use super::check::{self, CheckCtx};
 use super::error::WorldError;
+use super::robot::{RBody, RShape, RobotModel};
+use super::scene::{Entry, Owner, Scene};
 use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
 use super::{Check, Config, World};
@@ -31,36 +33,6 @@ impl Default for WorldOptions {
     fn default() -> Self {
         WorldOptions { package_path: Vec::new(), mesh_mode: MeshMode::ConvexHull, self_collision_samples: 2000 }
     }
-}
-
-/// A rigid set of collision shapes moving with one link.
-pub(crate) struct RBody {
-    pub name: String,
-    pub link: usize,
-    pub shapes: Range<usize>,
-    /// False for the root link and links fixed to it: never checked against the scene.
-    pub moving: bool,
-    /// Rigid with the flange (the hand, the flange link): ignores a carried object.
-    pub holds: bool,
-}
-
-/// One shape of a robot, posed in its link's frame.
-pub(crate) struct RShape {
-    pub body: usize,
-    pub placed: Placed,
-}
-
-pub(crate) struct RobotModel {
-    pub name: String,
-    pub chain: Chain,
-    pub pose_world_base: Pose,
-    pub pose_flange_tcp: Pose,
-    pub shapes: Vec<RShape>,
-    pub bodies: Vec<RBody>,
-    pub self_pairs: Vec<(usize, usize)>,
-    pub scene: Scene,
-    pub home: Config,
-    pub drop: Config,
 }
 
 /// A hand: its shapes in the flange frame, by link.
@@ -103,7 +75,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             }
         }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
+        let analytic = Analytic::detect(&chain);
         robots.push(RobotModel {
+            analytic,
             name: r.name.clone(),
             chain,
             pose_world_base: r.pose_world_base,

@@ -14,20 +14,16 @@ use std::cell::{Cell, RefCell};
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose as PPose;
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query;
-use parry3d_f64::shape::{Shape, SharedShape};
+use parry3d_f64::shape::Shape;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::build::RobotModel;
-use super::shapes::{aabb_of, to_ppose, Obb, Placed};
+use super::robot::{assert_dof, RobotModel};
+use super::scene::Owner;
+use super::shapes::{aabb_of, to_ppose, Obb, Placed, CONTACT_TOLERANCE};
 use super::{Blocker, Check, Held, ObjectSet, World};
-use crate::resolve::{FixedId, ObjectId, RobotId};
-
-/// Penetration depth (metres) below which two shapes are not in collision. The same
-/// everywhere: robot vs scene, self-collision, carried object.
-pub const CONTACT_TOLERANCE: f64 = 1e-3;
+use crate::resolve::RobotId;
 
 /// Joint values this far outside a limit still count as inside (rounding of written degrees).
 pub(crate) const LIMIT_SLACK: f64 = 1e-9;
@@ -56,45 +52,6 @@ impl CheckCtx {
     /// Configurations checked so far.
     pub fn count(&self) -> u64 {
         self.checks.get()
-    }
-}
-
-/// Who a static shape belongs to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Owner {
-    Fixed(FixedId),
-    Object(ObjectId),
-    /// Another robot's body, at that robot's home.
-    Robot(RobotId, usize),
-}
-
-#[derive(Clone)]
-pub(crate) struct Entry {
-    pub owner: Owner,
-    pub shape: SharedShape,
-    pub pose: PPose,
-    pub aabb: Aabb,
-    pub obb: Obb,
-}
-
-impl Entry {
-    pub fn new(owner: Owner, p: Placed) -> Entry {
-        let aabb = aabb_of(&*p.shape.0, &p.pose);
-        Entry { owner, shape: p.shape, pose: p.pose, aabb, obb: p.obb }
-    }
-}
-
-/// The static world one robot is checked against.
-pub(crate) struct Scene {
-    bvh: Bvh,
-    pub entries: Vec<Entry>,
-}
-
-impl Scene {
-    pub fn new(entries: Vec<Entry>) -> Scene {
-        let aabbs: Vec<Aabb> = entries.iter().map(|e| e.aabb).collect();
-        let bvh = if aabbs.is_empty() { Bvh::new() } else { Bvh::from_leaves(BvhBuildStrategy::default(), &aabbs) };
-        Scene { bvh, entries }
     }
 }
 
@@ -163,20 +120,6 @@ fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
         }
         s.body_aabb.push(aabb);
     }
-}
-
-/// The contract of every public method taking a configuration (documented on
-/// [`World::fk_flange`]): a wrong length is the caller's bug, reported plainly here
-/// rather than as an index out of bounds deep in the kinematics.
-#[inline]
-pub(crate) fn assert_dof(m: &RobotModel, q: &[f64]) {
-    assert!(
-        q.len() == m.chain.dof(),
-        "configuration of robot `{}` has {} values, but the robot has {} joints",
-        m.name,
-        q.len(),
-        m.chain.dof()
-    );
 }
 
 pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
@@ -315,7 +258,7 @@ fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
     })
 }
 
-/// The planner's coarse segment check: the samples of `check_subdivided(.., 1, ..)`,
+/// The planner's coarse segment check: the samples of `check_motion(.., 1, ..)`,
 /// visited coarse-to-fine (ends, middle, quarters, ...) so a blocked segment, the
 /// common case for long roadmap edges, is found after a few samples. The labels are
 /// the same in any order; only which blocker is reported may differ.
@@ -381,7 +324,7 @@ pub(crate) fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
 
 /// Steps of at most `step`, each cut into `parts`: the samples include those of
 /// `parts = 1`, so the labels found can only grow with `parts`.
-pub(crate) fn check_subdivided(
+pub(crate) fn check_motion(
     w: &World,
     r: RobotId,
     a: &[f64],

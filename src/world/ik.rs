@@ -6,8 +6,9 @@ use nalgebra::{Isometry3, Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::build::RobotModel;
+use super::analytic::{self, Analytic};
 use super::chain::Chain;
+use super::robot::RobotModel;
 use super::urdf::Motion;
 use super::Config;
 use crate::resolve::Pose;
@@ -73,12 +74,23 @@ pub(crate) fn rotational(chain: &Chain) -> Vec<bool> {
 
 /// Refines `q` towards `target` (TCP in the base frame); true when it converged.
 pub(crate) fn refine(m: &RobotModel, target: &Isometry3<f64>, q: &mut [f64], rot: &[bool]) -> bool {
-    let n = m.chain.dof();
+    refine_chain(&m.chain, &m.pose_flange_tcp, target, q, rot)
+}
+
+/// [`refine`] on a bare chain and TCP offset.
+pub(crate) fn refine_chain(
+    chain: &Chain,
+    pose_flange_tcp: &Isometry3<f64>,
+    target: &Isometry3<f64>,
+    q: &mut [f64],
+    rot: &[bool],
+) -> bool {
+    let n = chain.dof();
     let mut jac = Matrix6xX::zeros(n);
     let mut jac_trial = Matrix6xX::zeros(n);
     let mut trial = q.to_vec();
     let mut lambda = 1e-2;
-    let cur = m.chain.jacobian(q, &m.pose_flange_tcp, &mut jac);
+    let cur = chain.jacobian(q, pose_flange_tcp, &mut jac);
     let mut err = pose_error(target, &cur);
     let mut norm = err.norm();
     for _ in 0..MAX_ITERATIONS {
@@ -96,10 +108,10 @@ pub(crate) fn refine(m: &RobotModel, target: &Isometry3<f64>, q: &mut [f64], rot
         for (k, t) in trial.iter_mut().enumerate() {
             *t = q[k] + jac.column(k).dot(&y);
         }
-        clamp_into(&m.chain, &mut trial, rot);
+        clamp_into(chain, &mut trial, rot);
         // The Jacobian pass computes the pose on the way, with the same arithmetic as
         // `fk_flange`: most steps are accepted, and then it is needed anyway.
-        let next = m.chain.jacobian(&trial, &m.pose_flange_tcp, &mut jac_trial);
+        let next = chain.jacobian(&trial, pose_flange_tcp, &mut jac_trial);
         let next_err = pose_error(target, &next);
         let next_norm = next_err.norm();
         if next_norm < norm {
@@ -125,13 +137,18 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
         return out;
     }
     let target = m.pose_world_base.inverse() * pose_world_tcp;
+    if let Some(a) = &m.analytic {
+        let mut all = closed_form(m, a, &target);
+        all.truncate(max_solutions);
+        return all;
+    }
     let rot = rotational(&m.chain);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     // Each start that converges buys more starts, up to the cap: a pose out of reach
     // costs `FIRST_STARTS` attempts, one with many solutions up to the full budget.
     const FIRST_STARTS: usize = 24;
     const STARTS_PER_SOLUTION: usize = 12;
-    let cap = FIRST_STARTS + STARTS_PER_SOLUTION * max_solutions;
+    let cap = STARTS_PER_SOLUTION.saturating_mul(max_solutions).saturating_add(FIRST_STARTS);
     let mut converged = 0;
     let mut q = vec![0.0; m.chain.dof()];
     let dof = q.len();
@@ -162,9 +179,88 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
 /// A configuration reaching `pose_world_tcp` starting from `start` (the nearest one, usually).
 pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -> Option<Config> {
     let target = m.pose_world_base.inverse() * pose_world_tcp;
+    if let Some(a) = &m.analytic {
+        let dist = |c: &Config| c.iter().zip(start).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+        return closed_form(m, a, &target).into_iter().min_by(|x, y| dist(x).total_cmp(&dist(y)));
+    }
     let rot = rotational(&m.chain);
     let mut q = start.to_vec();
     refine(m, &target, &mut q, &rot).then_some(Config(q))
+}
+
+/// Every in-limit configuration reaching `target` (TCP, base frame) by the closed
+/// form: first each posture at its turn nearest home, nearest home first, then the
+/// same postures turned by whole turns of a joint where the limits allow.
+fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Config> {
+    let flange = target * m.pose_flange_tcp.inverse();
+    let home: [f64; 6] = std::array::from_fn(|k| m.home.get(k).copied().unwrap_or(0.0));
+    let dist = |q: &[f64; 6]| q.iter().zip(&home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+    // (distance from home, turned by a whole turn?, configuration)
+    let mut found: Vec<(f64, bool, [f64; 6])> = Vec::with_capacity(16);
+    let mut rot = None;
+    for (mut q, sure) in a.solve_conditioned(&flange) {
+        if !q.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        // Rounding near a singularity (acos of ±1) can cost digits: confirm, and polish
+        // with the numeric step, which converges in one or two iterations from there.
+        let err = if sure { Vector6::zeros() } else { pose_error(&flange, &m.chain.fk_flange(&q)) };
+        if err.fixed_rows::<3>(0).norm() >= IK_TOLERANCE || err.fixed_rows::<3>(3).norm() >= IK_TOLERANCE {
+            let rot = rot.get_or_insert_with(|| rotational(&m.chain));
+            if err.norm() > analytic::ACCEPT || !refine(m, target, &mut q, rot) {
+                continue;
+            }
+        }
+        let Some((turns, counts)) = in_limits(&m.chain.limits, &q, &home) else { continue };
+        // Every combination of the joints' in-limit turns, the nearest-home one first.
+        let mut digit = [0usize; 6];
+        loop {
+            let v: [f64; 6] = std::array::from_fn(|k| turns[k][digit[k]]);
+            found.push((dist(&v), digit != [0; 6], v));
+            let Some(k) = (0..6).find(|&k| digit[k] + 1 < counts[k]) else { break };
+            digit[k] += 1;
+            digit[..k].fill(0);
+        }
+    }
+    found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
+    let mut out: Vec<Config> = Vec::with_capacity(found.len());
+    for (_, _, q) in found {
+        if out.iter().all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > DISTINCT)) {
+            out.push(Config(q.to_vec()));
+        }
+    }
+    out
+}
+
+/// At most this many whole-turn variants of one joint are kept (limits wider than
+/// ±8π are not seen in practice).
+const MAX_TURNS: usize = 8;
+
+/// Per joint, the values `q + 2πk` inside the limits, the one nearest home first, and
+/// how many there are; `None` when some joint has none.
+fn in_limits(limits: &[(f64, f64)], q: &[f64; 6], home: &[f64; 6]) -> Option<([[f64; MAX_TURNS]; 6], [usize; 6])> {
+    use std::f64::consts::TAU;
+    let slack = super::check::LIMIT_SLACK;
+    let mut turns = [[0.0; MAX_TURNS]; 6];
+    let mut counts = [0usize; 6];
+    for k in 0..6 {
+        let (v, (lo, hi), h) = (q[k], limits[k], home[k]);
+        let mut x = v - ((v - lo) / TAU).floor() * TAU;
+        let options = &mut turns[k];
+        let n = &mut counts[k];
+        while x <= hi + slack && *n < MAX_TURNS {
+            if x >= lo - slack {
+                options[*n] = x.clamp(lo, hi);
+                *n += 1;
+            }
+            x += TAU;
+        }
+        if *n == 0 {
+            return None;
+        }
+        options[..*n].sort_by(|a, b| (a - h).abs().total_cmp(&(b - h).abs()));
+    }
+    Some((turns, counts))
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@
 //! objects does it touch?". Geometry code never sees spans; errors name ids and the
 //! CLI maps them back to declarations.
 
+mod analytic;
 mod build;
 mod chain;
 mod check;
@@ -14,18 +15,20 @@ mod error;
 mod grasps;
 mod ik;
 mod labels;
+mod robot;
+mod scene;
 mod shapes;
 mod urdf;
 
 pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
-pub use check::{CheckCtx, CONTACT_TOLERANCE};
+pub use check::CheckCtx;
 pub use error::WorldError;
 pub use grasps::{
     report, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
-pub use shapes::MeshMode;
+pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 
 use std::ops::{Deref, DerefMut};
 
@@ -37,7 +40,7 @@ use crate::resolve::{ObjectId, Pose, RobotId, Scenario};
 /// Built once by [`build`]; immutable, `Send + Sync`, shared by planner threads.
 pub struct World {
     scenario: Scenario,
-    robots: Vec<build::RobotModel>,
+    robots: Vec<robot::RobotModel>,
     /// Per object: its parts in the body frame, for carrying it.
     object_parts: Vec<Vec<shapes::Placed>>,
 }
@@ -120,9 +123,9 @@ impl World {
         ik::solve(&self.robots[r.index()], pose_world_tcp, seed, max_solutions)
     }
     /// The robot's model, after checking that `q` fits it (see [`World::fk_flange`]).
-    fn robot_for(&self, r: RobotId, q: &[f64]) -> &build::RobotModel {
+    fn robot_for(&self, r: RobotId, q: &[f64]) -> &robot::RobotModel {
         let m = &self.robots[r.index()];
-        check::assert_dof(m, q);
+        robot::assert_dof(m, q);
         m
     }
     /// The paper's `selectGrasps` for one robot and object.
@@ -141,8 +144,8 @@ impl World {
         resolution: f64,
     ) -> ApproachDeviation {
         let m = &self.robots[r.index()];
-        check::assert_dof(m, a);
-        check::assert_dof(m, b);
+        robot::assert_dof(m, a);
+        robot::assert_dof(m, b);
         grasps::approach_deviation(self, r, grasp, a, b, resolution)
     }
     /// The object as carried after grasping it at `q_grasp`.
@@ -174,7 +177,7 @@ impl World {
     /// sample of the coarse check is among them. Panics if `a` or `b` is not
     /// [`World::dof`] long.
     pub fn check_motion(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
-        check::check_subdivided(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
+        check::check_motion(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
     }
 }
 

@@ -14,6 +14,10 @@ use parry3d_f64::shape::{Cuboid, Shape, SharedShape};
 
 use crate::diag::Loader;
 
+/// Penetration depth (metres) below which two shapes are not in collision. The same
+/// everywhere: robot vs scene, self-collision, carried object.
+pub const CONTACT_TOLERANCE: f64 = 1e-3;
+
 /// How mesh files become collision shapes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MeshMode {
@@ -39,7 +43,7 @@ pub(crate) struct Placed {
 
 impl Placed {
     pub fn new(shape: SharedShape, pose: PPose) -> Placed {
-        let eroded = erode(&shape, super::check::CONTACT_TOLERANCE);
+        let eroded = erode(&shape, CONTACT_TOLERANCE);
         let obb = Obb::of(&*shape.0);
         let eroded_obb = eroded.as_ref().map(|e| Obb::of(&*e.0));
         Placed { shape, pose, eroded, obb, eroded_obb }

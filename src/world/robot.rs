@@ -1,0 +1,58 @@
+//! One robot as the world holds it: its chain, its collision bodies in link frames,
+//! where it stands, and the static scene it is checked against. Every other file
+//! of `world` reads this one; it reads only the chain, the shapes and the scene.
+
+use std::ops::Range;
+
+use super::analytic::Analytic;
+use super::chain::Chain;
+use super::scene::Scene;
+use super::shapes::Placed;
+use super::Config;
+use crate::resolve::Pose;
+
+/// A rigid set of collision shapes moving with one link.
+pub(crate) struct RBody {
+    pub name: String,
+    pub link: usize,
+    pub shapes: Range<usize>,
+    /// False for the root link and links fixed to it: never checked against the scene.
+    pub moving: bool,
+    /// Rigid with the flange (the hand, the flange link): ignores a carried object.
+    pub holds: bool,
+}
+
+/// One shape of a robot, posed in its link's frame.
+pub(crate) struct RShape {
+    pub body: usize,
+    pub placed: Placed,
+}
+
+pub(crate) struct RobotModel {
+    pub name: String,
+    pub chain: Chain,
+    pub pose_world_base: Pose,
+    pub pose_flange_tcp: Pose,
+    pub shapes: Vec<RShape>,
+    pub bodies: Vec<RBody>,
+    pub self_pairs: Vec<(usize, usize)>,
+    pub scene: Scene,
+    pub home: Config,
+    pub drop: Config,
+    /// The closed-form IK solver, when the arm is of a family it knows.
+    pub analytic: Option<Analytic>,
+}
+
+/// The contract of every public method taking a configuration (documented on
+/// [`World::fk_flange`]): a wrong length is the caller's bug, reported plainly here
+/// rather than as an index out of bounds deep in the kinematics.
+#[inline]
+pub(crate) fn assert_dof(m: &RobotModel, q: &[f64]) {
+    assert!(
+        q.len() == m.chain.dof(),
+        "configuration of robot `{}` has {} values, but the robot has {} joints",
+        m.name,
+        q.len(),
+        m.chain.dof()
+    );
+}
