@@ -55,6 +55,7 @@ fn world(objects: usize) -> World {
         pose_world_base: Pose::identity(),
         hand: Some(HandId(0)),
         flange: None,
+        srdf: None,
         home: JointValues { values: home, span: Span::default(), units: Vec::new() },
         drop: None,
         allow_contact: vec![],

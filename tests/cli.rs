@@ -266,7 +266,8 @@ fn check_of_a_library_loads_its_robots() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert_eq!(
         stderr(&o),
-        "ok: examples/cell.dcl (a library: no target) — 2 robots, 0 objects, 1 fixed body, 0 grasps\n"
+        "ok: examples/cell.dcl (a library: no target) — 2 robots, 0 objects, 1 fixed body, 0 grasps\n  \
+         r1: hand `sah` on `flange`\n  r2: hand `sdh2` on `flange`\n"
     );
 }
 
@@ -310,6 +311,7 @@ fn check_of_a_library_with_objects_reports_their_grasps_then_warns() {
     let err = stderr(&o);
     let lines: Vec<&str> = err.lines().collect();
     assert!(lines[0].ends_with("lib.dcl (a library: no target) — 2 robots, 1 object, 1 fixed body, 4 grasps"), "{err}");
-    assert_eq!(lines[1], "  can: grasps reachable by r1 4/4, r2 4/4", "{err}");
-    assert!(lines[2].contains("declutter::resolve::no_target"), "{err}");
+    assert_eq!(lines[1..3], ["  r1: hand `sah` on `flange`", "  r2: hand `sdh2` on `flange`"], "{err}");
+    assert_eq!(lines[3], "  can: grasps reachable by r1 4/4, r2 4/4", "{err}");
+    assert!(lines[4].contains("declutter::resolve::no_target"), "{err}");
 }

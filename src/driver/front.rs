@@ -71,6 +71,15 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     };
     let report = world::report(&w);
     eprintln!("ok: {name} — {counts}");
+    // Where the hand is bolted is a choice (`flange`, else `tool0`, else the last link): show it.
+    for (i, r) in scn.robots.iter().enumerate() {
+        let id = resolve::RobotId(i as u32);
+        let on = match r.hand {
+            Some(h) => format!("hand `{}` on", scn.hands[h.index()].name),
+            None => "no hand; tool frame".to_string(),
+        };
+        eprintln!("  {}: {on} `{}`", r.name, w.flange_link(id));
+    }
     for o in &report.objects {
         let total = scn.object(o.object).grasps.len();
         let per_robot: Vec<String> =

@@ -93,6 +93,8 @@ pub struct Robot {
     pub hand: Option<HandId>,
     /// URDF link the hand is attached to; `None` means the chain's last link.
     pub flange: Option<(String, Span)>,
+    /// The robot package's SRDF, whose `disable_collisions` pairs are not checked.
+    pub srdf: Option<FileRef>,
     pub home: JointValues,
     /// Where removed objects are released; `None` means `home`.
     pub drop: Option<JointValues>,

@@ -206,13 +206,40 @@ pub struct Hand {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum RobotItem {
-    Urdf { path: Str, span: Span },
-    Base { pose: Pose, span: Span },
-    Hand { name: Ident, span: Span },
-    Flange { link: Str, span: Span },
-    Home { q: List, span: Span },
-    Drop { q: List, span: Span },
-    AllowContact { a: Str, b: Str, span: Span },
+    Urdf {
+        path: Str,
+        span: Span,
+    },
+    Base {
+        pose: Pose,
+        span: Span,
+    },
+    Hand {
+        name: Ident,
+        span: Span,
+    },
+    Flange {
+        link: Str,
+        span: Span,
+    },
+    /// `srdf "FILE"`: the robot package's semantic description (its collision filters).
+    Srdf {
+        path: Str,
+        span: Span,
+    },
+    Home {
+        q: List,
+        span: Span,
+    },
+    Drop {
+        q: List,
+        span: Span,
+    },
+    AllowContact {
+        a: Str,
+        b: Str,
+        span: Span,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]

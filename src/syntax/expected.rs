@@ -21,6 +21,7 @@ fn describe(r: Rule) -> &'static str {
         Rule::tcp_stmt | Rule::k_tcp => "`tcp`",
         Rule::base_stmt | Rule::k_base => "`base`",
         Rule::flange_stmt | Rule::k_flange => "`flange`",
+        Rule::srdf_stmt | Rule::k_srdf => "`srdf`",
         Rule::home_stmt | Rule::k_home => "`home`",
         Rule::drop_stmt | Rule::k_drop => "`drop`",
         Rule::contact_stmt | Rule::k_allow_contact => "`allow_contact`",

@@ -129,6 +129,7 @@ impl Cx<'_> {
             Rule::base_stmt => RobotItem::Base { pose: self.pose(take()?)?, span },
             Rule::hand_stmt => RobotItem::Hand { name: self.ident(take()?), span },
             Rule::flange_stmt => RobotItem::Flange { link: self.string(take()?)?, span },
+            Rule::srdf_stmt => RobotItem::Srdf { path: self.string(take()?)?, span },
             Rule::home_stmt => RobotItem::Home { q: self.list(take()?)?, span },
             Rule::drop_stmt => RobotItem::Drop { q: self.list(take()?)?, span },
             Rule::contact_stmt => {
@@ -372,6 +373,7 @@ fn is_keyword(r: Rule) -> bool {
             | Rule::k_tcp
             | Rule::k_base
             | Rule::k_flange
+            | Rule::k_srdf
             | Rule::k_home
             | Rule::k_drop
             | Rule::k_allow_contact

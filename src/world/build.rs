@@ -14,7 +14,7 @@ use super::robot::{RBody, RShape, RobotModel};
 use super::scene::{Entry, Owner, Scene};
 use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
-use super::{Check, Config, World};
+use super::{Blocker, Check, Config, World};
 use crate::diag::{Loader, Span};
 use crate::resolve::{FileRef, FixedId, JointUnit, JointValues, ObjectId, Pose, RobotId, Scenario, Shape, Target};
 
@@ -48,11 +48,18 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
 
     let hands: Vec<Option<HandModel>> = scn.hands.iter().map(|h| ctx.load_hand(&h.urdf, &mut meshes)).collect();
     let mut robots = Vec::new();
+    // Per robot: the link pairs its package (Drake filter groups, SRDF) never checks.
+    let mut package_allowed: Vec<Vec<(String, String)>> = Vec::new();
     for (i, r) in scn.robots.iter().enumerate() {
-        let Some((chain, mut shapes, mut bodies)) = ctx.load_arm(&r.name, &r.urdf, r.flange.as_ref(), &mut meshes)
+        let Some(Arm { chain, mut shapes, mut bodies, mut filter_pairs, links }) =
+            ctx.load_arm(&r.name, &r.urdf, r.flange.as_ref(), &mut meshes)
         else {
             continue;
         };
+        if let Some(f) = &r.srdf {
+            filter_pairs.extend(ctx.load_srdf(&r.name, f, &links));
+        }
+        package_allowed.push(filter_pairs);
         let root_group = chain.links[0].group;
         let flange_group = chain.links[chain.flange].group;
         let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
@@ -162,8 +169,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             }
         }
         m.scene = Scene::new(entries);
-        let allowed: Vec<(String, String)> =
+        let mut allowed: Vec<(String, String)> =
             scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
+        allowed.extend(package_allowed[ri].iter().cloned());
         m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
     }
 
@@ -183,6 +191,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
                     what: what.into(),
                     reason: check::describe(&world, id, &b),
                     span,
+                    help: collides_help(&b),
                 });
             }
         }
@@ -256,11 +265,32 @@ pub fn load_kinematics(
     let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
     let arm = ctx.load_arm("robot", urdf, flange, &mut meshes);
     match arm {
-        Some((chain, shapes, bodies)) if errs.is_empty() => {
+        Some(Arm { chain, shapes, bodies, .. }) if errs.is_empty() => {
             Ok(RobotKinematics { chain, bodies: bodies.into_iter().map(|b| b.name).collect(), shapes: shapes.len() })
         }
         _ => Err(errs),
     }
+}
+
+/// What to do about a colliding `home` or `drop`: a self-collision may be a pair the
+/// robot's package allows, which declutter learns from its SRDF or an `allow_contact`.
+fn collides_help(b: &Blocker) -> String {
+    match b {
+        Blocker::SelfCollision { link_a, link_b } => format!(
+            "choose another configuration; or, if the robot's package allows these links to touch, add its SRDF (`srdf \"ROBOT.srdf\"`, whose `disable_collisions` pairs are not checked) or `allow_contact \"{link_a}\" \"{link_b}\"` to the robot"
+        ),
+        _ => "a robot's `home` and `drop` must be free of fixed bodies, other robots and itself".to_string(),
+    }
+}
+
+/// An arm's URDF loaded: its chain, collision bodies, the file's own filter pairs and
+/// every link name (for checking an SRDF against it).
+struct Arm {
+    chain: Chain,
+    shapes: Vec<RShape>,
+    bodies: Vec<RBody>,
+    filter_pairs: Vec<(String, String)>,
+    links: Vec<String>,
 }
 
 fn diag_key(e: &WorldError) -> Option<Span> {
@@ -299,7 +329,7 @@ impl LoadCtx<'_> {
         urdf: &FileRef,
         flange: Option<&(String, Span)>,
         meshes: &mut MeshCache,
-    ) -> Option<(Chain, Vec<RShape>, Vec<RBody>)> {
+    ) -> Option<Arm> {
         let model = self.load_urdf(urdf)?;
         let chain = match Chain::new(&model, flange.map(|f| f.0.as_str())) {
             Ok(c) => c,
@@ -334,7 +364,44 @@ impl LoadCtx<'_> {
             let (moving, holds) = (link.group != root_group, link.group == flange_group);
             push_body(&mut shapes, &mut bodies, &link.name, li, placed, moving, holds);
         }
-        Some((chain, shapes, bodies))
+        let links = model.links.iter().map(|l| l.name.clone()).collect();
+        Some(Arm { chain, shapes, bodies, filter_pairs: model.filter_pairs, links })
+    }
+
+    /// The SRDF's `disable_collisions` pairs, each link checked against the URDF's.
+    fn load_srdf(&mut self, robot: &str, file: &FileRef, links: &[String]) -> Vec<(String, String)> {
+        let path = file.written.clone();
+        let text = match self.loader.read_to_string(&file.path) {
+            Ok(t) => t,
+            Err(e) => {
+                self.errs.push(WorldError::SrdfRead { path, reason: e.to_string(), span: file.span });
+                return Vec::new();
+            }
+        };
+        match super::srdf::disabled_pairs(&text) {
+            Ok(pairs) => {
+                let mut out = Vec::new();
+                for p in pairs {
+                    let unknown = [&p.a, &p.b].into_iter().find(|l| !links.contains(l));
+                    match unknown {
+                        Some(link) => self.errs.push(WorldError::SrdfLink {
+                            path: path.clone(),
+                            line: p.line,
+                            robot: robot.to_string(),
+                            link: link.clone(),
+                            links: links.join(", "),
+                            span: file.span,
+                        }),
+                        None => out.push((p.a, p.b)),
+                    }
+                }
+                out
+            }
+            Err((reason, line)) => {
+                self.errs.push(WorldError::SrdfParse { path, line, reason, span: file.span });
+                Vec::new()
+            }
+        }
     }
 
     fn load_urdf(&mut self, file: &FileRef) -> Option<Model> {

@@ -55,8 +55,13 @@ pub(crate) enum ChainError {
     Structure(String),
 }
 
+/// The link ROS-Industrial robots name their tool flange.
+pub const TOOL0: &str = "tool0";
+
 impl Chain {
-    /// Builds the chain ending at `flange` (by default the deepest link, first in file order on ties).
+    /// Builds the chain ending at `flange`: by default the link named `tool0` when there is
+    /// one (ROS-Industrial's tool flange, +z out of the flange), else the deepest link,
+    /// first in file order on ties.
     pub fn new(model: &Model, flange: Option<&str>) -> Result<Chain, ChainError> {
         // Topological order, children in file order.
         let mut order = Vec::with_capacity(model.links.len());
@@ -80,8 +85,9 @@ impl Chain {
             }
             d
         };
-        let flange_model = match flange {
-            Some(name) => model.link_index(name).ok_or(ChainError::UnknownFlange)?,
+        let flange_model = match flange.map(|n| model.link_index(n)) {
+            Some(found) => found.ok_or(ChainError::UnknownFlange)?,
+            None if model.link_index(TOOL0).is_some() => model.link_index(TOOL0).unwrap_or(model.root),
             None => {
                 let mut best = model.root;
                 for &l in &order {

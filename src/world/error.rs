@@ -132,6 +132,43 @@ pub enum WorldError {
         span: Span,
     },
 
+    #[error("cannot read SRDF `{path}`: {reason}")]
+    #[diagnostic(code(declutter::world::srdf_read))]
+    SrdfRead {
+        path: String,
+        reason: String,
+        #[label("named here")]
+        span: Span,
+    },
+
+    #[error("SRDF `{path}` line {line}: {reason}")]
+    #[diagnostic(
+        code(declutter::world::srdf_parse),
+        help("an SRDF is the XML MoveIt's setup assistant writes (`<robot>` with `<disable_collisions link1=\"..\" link2=\"..\"/>`)")
+    )]
+    SrdfParse {
+        path: String,
+        line: u32,
+        reason: String,
+        #[label("this SRDF")]
+        span: Span,
+    },
+
+    #[error("SRDF `{path}` line {line} names link `{link}`, which robot `{robot}`'s URDF does not have")]
+    #[diagnostic(
+        code(declutter::world::srdf_link),
+        help("the URDF's links: {links}; is this the SRDF of another robot?")
+    )]
+    SrdfLink {
+        path: String,
+        line: u32,
+        robot: String,
+        link: String,
+        links: String,
+        #[label("this SRDF")]
+        span: Span,
+    },
+
     #[error("`{what}` of robot `{robot}` has {got} values, but the robot has {expected} joints ({joints})")]
     #[diagnostic(code(declutter::world::joint_count))]
     JointCount {
@@ -180,16 +217,15 @@ pub enum WorldError {
     },
 
     #[error("`{what}` of robot `{robot}` is in collision: {reason}")]
-    #[diagnostic(
-        code(declutter::world::config_collides),
-        help("a robot's `home` and `drop` must be free of fixed bodies, other robots and itself")
-    )]
+    #[diagnostic(code(declutter::world::config_collides))]
     ConfigCollides {
         robot: String,
         what: String,
         reason: String,
         #[label("this configuration collides")]
         span: Span,
+        #[help]
+        help: String,
     },
 }
 
@@ -207,6 +243,9 @@ impl Located for WorldError {
             | WorldError::MeshLoad { span, .. }
             | WorldError::UnknownFlange { span, .. }
             | WorldError::UnknownLink { span, .. }
+            | WorldError::SrdfRead { span, .. }
+            | WorldError::SrdfParse { span, .. }
+            | WorldError::SrdfLink { span, .. }
             | WorldError::JointCount { span, .. }
             | WorldError::JointLimit { span, .. }
             | WorldError::JointUnit { span, .. }

@@ -18,6 +18,7 @@ mod labels;
 mod robot;
 mod scene;
 mod shapes;
+mod srdf;
 mod urdf;
 
 pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};

@@ -83,6 +83,8 @@ pub(crate) struct Model {
     pub links: Vec<ModelLink>,
     pub joints: Vec<ModelJoint>,
     pub root: usize,
+    /// Link pairs the file's own `<drake:collision_filter_group>`s exclude from collision.
+    pub filter_pairs: Vec<(String, String)>,
 }
 
 impl Model {
@@ -268,7 +270,8 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             }
         }
     }
-    let model = Model { links, joints, root };
+    let filter_pairs = drake_filter_pairs(text, &names_of(&links))?;
+    let model = Model { links, joints, root, filter_pairs };
     // Every link reachable from the root exactly once (a cycle would leave some unreached).
     let mut seen = 0;
     let mut stack = vec![root];
@@ -282,6 +285,92 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
     Ok(model)
 }
 
+fn names_of(links: &[ModelLink]) -> Vec<&str> {
+    links.iter().map(|l| l.name.as_str()).collect()
+}
+
+/// Drake's collision filter groups: each `<drake:collision_filter_group>` lists member
+/// links and the groups (itself included, when listed) whose members it never collides
+/// with. urdf-rs drops these elements, so they are read from the text directly.
+fn drake_filter_pairs(text: &str, links: &[&str]) -> Result<Vec<(String, String)>, UrdfProblem> {
+    if !text.contains("collision_filter_group") {
+        return Ok(Vec::new());
+    }
+    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfProblem::Parse(e.to_string()))?;
+    let named = |n: &roxmltree::Node, tag: &str| n.is_element() && n.tag_name().name() == tag;
+    let mut groups: Vec<(String, Vec<String>, Vec<String>)> = Vec::new();
+    for g in doc.descendants().filter(|n| named(n, "collision_filter_group")) {
+        let name = g.attribute("name").unwrap_or_default().to_string();
+        let mut members = Vec::new();
+        let mut ignored = Vec::new();
+        for c in g.children() {
+            if named(&c, "member") {
+                let link = c.attribute("link").unwrap_or_default();
+                if !links.contains(&link) {
+                    return Err(UrdfProblem::Structure(format!(
+                        "collision filter group `{name}` names link `{link}`, which is not defined"
+                    )));
+                }
+                members.push(link.to_string());
+            } else if named(&c, "ignored_collision_filter_group") {
+                ignored.push(c.attribute("name").unwrap_or_default().to_string());
+            }
+        }
+        groups.push((name, members, ignored));
+    }
+    let mut pairs = Vec::new();
+    for (name, members, ignored) in &groups {
+        for other in ignored {
+            let Some((_, others, _)) = groups.iter().find(|(n, _, _)| n == other) else {
+                return Err(UrdfProblem::Structure(format!(
+                    "collision filter group `{name}` ignores group `{other}`, which is not defined"
+                )));
+            };
+            for a in members {
+                for b in others {
+                    if a != b {
+                        pairs.push((a.clone(), b.clone()));
+                    }
+                }
+            }
+        }
+    }
+    Ok(pairs)
+}
+
 fn first_line(s: &str) -> String {
     s.lines().next().unwrap_or("").trim().to_string()
+}
+
+#[cfg(test)]
+mod filter_tests {
+    use super::*;
+
+    const ARM: &str = r#"<robot name="r" xmlns:drake="http://drake.mit.edu">
+  <link name="a"/><link name="b"/><link name="c"/>
+  <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
+  <joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
+  <drake:collision_filter_group name="wrist">
+    <drake:member link="b"/>
+    <drake:member link="c"/>
+    <drake:ignored_collision_filter_group name="wrist"/>
+  </drake:collision_filter_group>
+</robot>"#;
+
+    #[test]
+    fn drake_filter_groups_become_pairs() {
+        let m = parse(ARM).unwrap();
+        assert_eq!(m.filter_pairs, [("b".to_string(), "c".to_string()), ("c".to_string(), "b".to_string())]);
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/robots/iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf");
+        if let Ok(text) = std::fs::read_to_string(&p) {
+            eprintln!("{:?}", parse(&text).unwrap().filter_pairs);
+        }
+    }
+
+    #[test]
+    fn a_filter_group_naming_an_unknown_link_is_refused() {
+        let text = ARM.replace(r#"<drake:member link="c"/>"#, r#"<drake:member link="x"/>"#);
+        assert!(matches!(parse(&text), Err(UrdfProblem::Structure(r)) if r.contains("names link `x`")));
+    }
 }

@@ -47,6 +47,7 @@ pub fn scenario(robots: usize, objects: usize, target: Option<u32>, config_robot
             pose_world_base: Pose::identity(),
             hand: None,
             flange: None,
+            srdf: None,
             home: JointValues { values: vec![0.0, 0.0], span: *span, units: Vec::new() },
             drop: None,
             allow_contact: vec![],

@@ -32,6 +32,7 @@ pub fn robot(name: &str, urdf: impl AsRef<Path>, home: Vec<f64>, hand: Option<Ha
         pose_world_base: Pose::identity(),
         hand,
         flange: None,
+        srdf: None,
         home: JointValues { values: home, span: sp(30, 40), units: Vec::new() },
         drop: None,
         allow_contact: Vec::new(),

@@ -465,6 +465,7 @@ impl Lower<'_> {
         let mut base = None;
         let mut hand = None;
         let mut flange = None;
+        let mut srdf = None;
         let mut home = None;
         let mut drop = None;
         let mut allow_contact = Vec::new();
@@ -481,6 +482,10 @@ impl Lower<'_> {
                 ast::RobotItem::Hand { name, span } => {
                     let h = self.lookup(name, |k| if let DeclKind::Hand(i) = k { Some(i) } else { None }, "a hand");
                     self.once(&mut hand, "hand", h.map(|i| HandId(i as u32)), *span);
+                }
+                ast::RobotItem::Srdf { path, span } => {
+                    let f = self.file_ref(path, "SRDF");
+                    self.once(&mut srdf, "srdf", f, *span);
                 }
                 ast::RobotItem::Flange { link, span } => {
                     self.once(&mut flange, "flange", (link.value.clone(), link.span), *span);
@@ -523,6 +528,7 @@ impl Lower<'_> {
             pose_world_base: base.map_or_else(Pose::identity, |(p, _)| p),
             hand: hand.and_then(|(h, _)| h),
             flange: flange.map(|(f, _)| f),
+            srdf: srdf.map(|(f, _)| f),
             home,
             drop,
             allow_contact,

@@ -1,0 +1,102 @@
+//! A robot package loads as its authors meant it: its own collision filters (Drake's
+//! filter groups in the URDF, MoveIt's SRDF), its tool frame, and a located error when
+//! an SRDF does not fit the URDF. The `../shared/robots` cases are skipped, with the
+//! reason printed, when that directory is absent.
+
+mod world_support;
+
+use std::path::Path;
+use std::process::Command;
+
+use declutter::diag::{FsLoader, SourceMap};
+use declutter::world::{self, load_kinematics, WorldOptions};
+use world_support::*;
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_declutter")).arg("--no-color").args(args).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// A one-robot scenario of `urdf` (and `srdf`) at the middle of every joint's range.
+fn mid_range_scenario(name: &str, urdf: &Path, srdf: Option<&Path>) -> std::path::PathBuf {
+    let k = load_kinematics(&file(urdf, sp(0, 1)), None, &WorldOptions::default(), &FsLoader)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    let home: Vec<String> = k.limits().iter().map(|(lo, hi)| format!("{}rad", (lo + hi) / 2.0)).collect();
+    let home = home.join(", ");
+    let srdf = srdf.map_or(String::new(), |s| format!("    srdf \"{}\"\n", s.display()));
+    let text =
+        format!("robot arm {{\n    urdf \"{}\"\n{srdf}    home [{home}]\n}}\ntarget arm at [{home}]\n", urdf.display());
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("robot_packages");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.dcl"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn every_shared_robot_checks_at_mid_range_with_its_own_filters() {
+    let Some(root) = shared_robots() else { return };
+    let erd = "panda/example-robot-data/robots/panda_description";
+    // (name, URDF, SRDF, the link the hand is bolted to without `flange`)
+    let cases = [
+        ("tx90", "tx90/tx90.urdf", None, "link_6"),
+        ("panda", &format!("{erd}/urdf/panda.urdf")[..], Some(&format!("{erd}/srdf/panda.srdf")[..]), "panda_hand_tcp"),
+        // This file has no TCP link: the deepest link is a finger, so a user names the flange.
+        ("panda_spheres", "panda/vamp/panda_spherized.urdf", Some("panda/vamp/panda.srdf"), "panda_leftfinger"),
+        ("ur5", "ur5/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf", None, "tool0"),
+        ("ur5_spheres", "ur5/vamp/ur5_spherized.urdf", Some("ur5/vamp/ur5.srdf"), "tool0"),
+        (
+            "iiwa_primitive",
+            "iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf",
+            None,
+            "iiwa_link_ee_kuka",
+        ),
+        (
+            "iiwa_polytope",
+            "iiwa/drake_models/iiwa_description/urdf/iiwa14_polytope_collision.urdf",
+            None,
+            "iiwa_link_ee_kuka",
+        ),
+        (
+            "iiwa_spheres",
+            "iiwa/drake_models/iiwa_description/urdf/iiwa14_spheres_dense_collision.urdf",
+            None,
+            "iiwa_link_ee_kuka",
+        ),
+    ];
+    for (name, urdf, srdf, tool) in cases {
+        let scn = mid_range_scenario(name, &root.join(urdf), srdf.map(|s| root.join(s)).as_deref());
+        let (code, stderr) = run(&["check", scn.to_str().unwrap()]);
+        assert_eq!(code, 0, "{name}:\n{stderr}");
+        assert!(stderr.contains(&format!("  arm: no hand; tool frame `{tool}`")), "{name}:\n{stderr}");
+    }
+}
+
+#[test]
+fn drakes_filter_group_takes_the_wrist_pair_out_of_the_self_checks() {
+    let Some(root) = shared_robots() else { return };
+    let urdf = root.join("iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf");
+    let scn_path = mid_range_scenario("iiwa_pairs", &urdf, None);
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(&scn_path, &FsLoader, &mut sources).unwrap();
+    let opts = WorldOptions { self_collision_samples: 0, ..WorldOptions::default() };
+    let w = world::build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let pairs = w.self_collision_pairs(declutter::resolve::RobotId(0));
+    let has = |a: &str, b: &str| pairs.iter().any(|&(x, y)| (x == a && y == b) || (x == b && y == a));
+    // The file's `iiwa_wrist` group (links 5, 6, 7) ignores itself; the others are checked.
+    assert!(!has("iiwa_link_5", "iiwa_link_7"), "{pairs:?}");
+    assert!(has("iiwa_link_3", "iiwa_link_7"), "{pairs:?}");
+}
+
+#[test]
+fn an_srdf_that_does_not_fit_is_a_located_error() {
+    let mut all = String::new();
+    for f in ["srdf_unknown_link", "srdf_malformed"] {
+        let (code, stderr) = run(&["check", &format!("tests/fixtures/packages/{f}.dcl")]);
+        assert_eq!(code, 1, "{f}: {stderr}");
+        all.push_str(&format!("===== {f}\n{stderr}"));
+    }
+    insta::assert_snapshot!(all);
+    let (code, stderr) = run(&["check", "tests/fixtures/packages/srdf_ok.dcl"]);
+    assert_eq!(code, 0, "{stderr}");
+}
