@@ -89,9 +89,9 @@ fn drakes_filter_group_takes_the_wrist_pair_out_of_the_self_checks() {
 }
 
 #[test]
-fn an_srdf_that_does_not_fit_is_a_located_error() {
+fn what_check_can_know_before_planning_is_a_located_error() {
     let mut all = String::new();
-    for f in ["srdf_unknown_link", "srdf_malformed"] {
+    for f in ["srdf_unknown_link", "srdf_malformed", "target_collides", "objects_overlap"] {
         let (code, stderr) = run(&["check", &format!("tests/fixtures/packages/{f}.dcl")]);
         assert_eq!(code, 1, "{f}: {stderr}");
         all.push_str(&format!("===== {f}\n{stderr}"));

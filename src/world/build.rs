@@ -12,6 +12,7 @@ use super::check::{self, CheckCtx};
 use super::error::WorldError;
 use super::robot::{RBody, RShape, RobotModel};
 use super::scene::{Entry, Owner, Scene};
+use parry3d_f64::bounding_volume::BoundingVolume as _;
 use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
 use super::{Blocker, Check, Config, World};
@@ -119,6 +120,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         }
         object_parts.push(parts);
     }
+    errs.extend(overlaps(scn, &statics));
     if !errs.is_empty() {
         errs.sort_by_key(diag_key);
         return Err(errs);
@@ -183,6 +185,13 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let mut cases = vec![("home", world.home(id).clone(), r.home.span)];
         if let Some(d) = &r.drop {
             cases.push(("drop", world.drop_config(id).clone(), d.span));
+        }
+        // A configuration target that hits something fixed can never be reached (a
+        // library's stand-in target is its home, checked above).
+        if let Target::Config { robot, q, .. } = &scn.target {
+            if *robot == id && q != &r.home {
+                cases.push(("target", Config(q.values.clone()), q.span));
+            }
         }
         for (what, q, span) in cases {
             if let Check::Blocked(b) = world.check(id, &q, &CheckCtx::new()) {
@@ -279,7 +288,8 @@ fn collides_help(b: &Blocker) -> String {
         Blocker::SelfCollision { link_a, link_b } => format!(
             "choose another configuration; or, if the robot's package allows these links to touch, add its SRDF (`srdf \"ROBOT.srdf\"`, whose `disable_collisions` pairs are not checked) or `allow_contact \"{link_a}\" \"{link_b}\"` to the robot"
         ),
-        _ => "a robot's `home` and `drop` must be free of fixed bodies, other robots and itself".to_string(),
+        _ => "a robot's `home`, `drop` and target configuration must be free of fixed bodies, other robots and itself"
+            .to_string(),
     }
 }
 
@@ -291,6 +301,41 @@ struct Arm {
     bodies: Vec<RBody>,
     filter_pairs: Vec<(String, String)>,
     links: Vec<String>,
+}
+
+/// Objects sunk into a fixed body or into each other deeper than the contact tolerance
+/// (resting contact is fine): a scene that cannot be, whose blocking relations would be
+/// nonsense. Fixed bodies may overlap each other (a shelf's boards do). One error per pair.
+fn overlaps(scn: &Scenario, statics: &[Entry]) -> Vec<WorldError> {
+    let name_span = |o: Owner| match o {
+        Owner::Fixed(f) => Some((format!("fixed body `{}`", scn.fixed[f.index()].name), scn.fixed[f.index()].span)),
+        Owner::Object(o) => {
+            Some((format!("object `{}`", scn.objects[o.index()].body.name), scn.objects[o.index()].body.span))
+        }
+        Owner::Robot(..) => None,
+    };
+    let mut seen: Vec<(Owner, Owner)> = Vec::new();
+    let mut out = Vec::new();
+    for a in statics {
+        let Owner::Object(_) = a.owner else { continue };
+        for b in statics {
+            let pair_seen = seen.contains(&(a.owner, b.owner)) || seen.contains(&(b.owner, a.owner));
+            if a.owner == b.owner || pair_seen || !a.aabb.intersects(&b.aabb) {
+                continue;
+            }
+            let depth = match parry3d_f64::query::contact(&a.pose, &*a.shape.0, &b.pose, &*b.shape.0, 0.0) {
+                Ok(Some(c)) if c.dist < -super::shapes::CONTACT_TOLERANCE => -c.dist,
+                _ => continue,
+            };
+            let (Some((what_a, span)), Some((what_b, other))) = (name_span(a.owner), name_span(b.owner)) else {
+                continue;
+            };
+            seen.push((a.owner, b.owner));
+            let (other, elsewhere) = if other.file == span.file { (Some(other), None) } else { (None, Some(other)) };
+            out.push(WorldError::BodiesOverlap { a: what_a, b: what_b, depth_mm: depth * 1000.0, span, other, elsewhere });
+        }
+    }
+    out
 }
 
 fn diag_key(e: &WorldError) -> Option<Span> {

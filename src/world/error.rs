@@ -132,6 +132,24 @@ pub enum WorldError {
         span: Span,
     },
 
+    #[error("{a} and {b} overlap by {depth_mm:.1} mm")]
+    #[diagnostic(
+        code(declutter::world::bodies_overlap),
+        help("bodies may touch (up to the 1 mm contact tolerance) but not sink into each other; check the positions and sizes (and their units)")
+    )]
+    BodiesOverlap {
+        a: String,
+        b: String,
+        depth_mm: f64,
+        #[label("this one")]
+        span: Span,
+        /// The other body, when it is declared in the same file.
+        #[label("overlaps this one")]
+        other: Option<Span>,
+        /// The other body, when it is declared in another file (a related report).
+        elsewhere: Option<Span>,
+    },
+
     #[error("cannot read SRDF `{path}`: {reason}")]
     #[diagnostic(code(declutter::world::srdf_read))]
     SrdfRead {
@@ -244,6 +262,7 @@ impl Located for WorldError {
             | WorldError::UnknownFlange { span, .. }
             | WorldError::UnknownLink { span, .. }
             | WorldError::SrdfRead { span, .. }
+            | WorldError::BodiesOverlap { span, .. }
             | WorldError::SrdfParse { span, .. }
             | WorldError::SrdfLink { span, .. }
             | WorldError::JointCount { span, .. }
@@ -251,6 +270,13 @@ impl Located for WorldError {
             | WorldError::JointUnit { span, .. }
             | WorldError::ConfigCollides { span, .. } => *span,
         })
+    }
+
+    fn elsewhere(&self) -> Vec<(Span, String)> {
+        match self {
+            WorldError::BodiesOverlap { elsewhere: Some(s), .. } => vec![(*s, "overlaps this one".to_string())],
+            _ => Vec::new(),
+        }
     }
 }
 
