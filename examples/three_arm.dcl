@@ -23,7 +23,7 @@ object left cylinder(radius: 3.3cm, length: 11.5cm) at (81.7cm, -5.7cm, 5.75cm) 
 object right cylinder(radius: 3.3cm, length: 11.5cm) at (81.7cm, 5.7cm, 5.75cm) {
     grasp top at (0, 0, 4cm) rot (180deg, 0, 0) approach 14cm repeat 4 about z
 }
-object middle cylinder(radius: 3.3cm, length: 11.5cm) at (84cm, 0, 5.75cm) {
+object middle cylinder(radius: 3.3cm, length: 11.5cm) at (85.5cm, 0, 5.75cm) {
     grasp top at (0, 0, 4cm) rot (180deg, 0, 0) approach 14cm repeat 4 about z
 }
 object front_left cylinder(radius: 3.3cm, length: 11.5cm) at (70.3cm, -5.7cm, 5.75cm) {

@@ -69,6 +69,10 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         Ok(w) => w,
         Err(errs) => return fail(&sources, &errs, g),
     };
+    let overlapping = world::overlaps(&w);
+    if !overlapping.is_empty() {
+        return fail(&sources, &overlapping, g);
+    }
     let report = world::report(&w);
     eprintln!("ok: {name} — {counts}");
     // Where the hand is bolted is a choice (`flange`, else `tool0`, else the last link): show it.

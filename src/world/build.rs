@@ -120,7 +120,6 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         }
         object_parts.push(parts);
     }
-    errs.extend(overlaps(scn, &statics));
     if !errs.is_empty() {
         errs.sort_by_key(diag_key);
         return Err(errs);
@@ -189,7 +188,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         // A configuration target that hits something fixed can never be reached (a
         // library's stand-in target is its home, checked above).
         if let Target::Config { robot, q, .. } = &scn.target {
-            if *robot == id && q != &r.home {
+            if *robot == id && q.values != r.home.values {
                 cases.push(("target", Config(q.values.clone()), q.span));
             }
         }
@@ -305,8 +304,13 @@ struct Arm {
 
 /// Objects sunk into a fixed body or into each other deeper than the contact tolerance
 /// (resting contact is fine): a scene that cannot be, whose blocking relations would be
-/// nonsense. Fixed bodies may overlap each other (a shelf's boards do). One error per pair.
-fn overlaps(scn: &Scenario, statics: &[Entry]) -> Vec<WorldError> {
+/// nonsense. Fixed bodies may overlap each other (a shelf's boards do). One error per
+/// pair. `check` reports these; planning does not need them refused.
+pub fn overlaps(world: &World) -> Vec<WorldError> {
+    let scn = &world.scenario;
+    let Some(m) = world.robots.first() else { return Vec::new() };
+    // Every robot's scene holds all fixed bodies and objects (and the other robots).
+    let statics = &m.scene.entries;
     let name_span = |o: Owner| match o {
         Owner::Fixed(f) => Some((format!("fixed body `{}`", scn.fixed[f.index()].name), scn.fixed[f.index()].span)),
         Owner::Object(o) => {
