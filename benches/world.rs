@@ -112,6 +112,10 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     c.bench_function(&format!("{tag}ik_tx90_sah_all_solutions"), |b| {
         b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, usize::MAX)))
     });
+    // What `selectGrasps` asks for: six solutions.
+    c.bench_function(&format!("{tag}ik_tx90_sah_six_solutions"), |b| {
+        b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, 6)))
+    });
     for n in [10, 200] {
         let w = world(n);
         let qs = configs(&w);

@@ -383,26 +383,36 @@ pub(crate) fn self_pairs(
         return pairs;
     }
     let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f_c011 ^ seed);
-    let mut counts = vec![0usize; pairs.len()];
+    let always = (ALWAYS_FRACTION_NUM * samples as f64).ceil() as usize;
+    // A pair is kept once it has come near and missed collision in more than
+    // `samples - always` samples: it can no longer be "always" colliding, so the rest
+    // of the samples need not test it (the same pairs as testing every sample).
+    let misses_to_keep = samples - always + 1;
+    let mut misses = vec![0usize; pairs.len()];
     let mut near = vec![false; pairs.len()];
     let mut s = Scratch::default();
     let mut q = vec![0.0; m.chain.dof()];
     for _ in 0..samples {
+        if near.iter().zip(&misses).all(|(n, c)| *n && *c >= misses_to_keep) {
+            break;
+        }
         for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
             *v = super::chain::sample_in(&mut rng, *lo, *hi);
         }
         pose_robot(m, &q, &mut s);
         for (k, &(a, b)) in pairs.iter().enumerate() {
+            if near[k] && misses[k] >= misses_to_keep {
+                continue;
+            }
             if !near[k] && s.body_aabb[a].loosened(NEAR_MARGIN).intersects(&s.body_aabb[b]) {
                 near[k] = true;
             }
-            if s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b) {
-                counts[k] += 1;
+            if !(s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b)) {
+                misses[k] += 1;
             }
         }
     }
-    let always = (ALWAYS_FRACTION_NUM * samples as f64).ceil() as usize;
-    pairs.into_iter().enumerate().filter(|&(k, _)| near[k] && counts[k] < always).map(|(_, p)| p).collect()
+    pairs.into_iter().enumerate().filter(|&(k, _)| near[k] && misses[k] >= misses_to_keep).map(|(_, p)| p).collect()
 }
 
 /// Bodies whose bounding boxes never came this close (metres) in any sample are never checked.

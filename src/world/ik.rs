@@ -1,6 +1,8 @@
-//! Inverse kinematics of the TCP pose: damped least squares (Levenberg–Marquardt)
-//! from several seeded starts, joint values kept inside their limits (revolute
-//! joints wrapped by 2π when that brings them inside). Deterministic per seed.
+//! Inverse kinematics of the TCP pose: the closed form of [`super::analytic`] when
+//! the arm has one (every in-limit solution, nearest home first), else damped least
+//! squares (Levenberg–Marquardt) from several seeded starts, joint values kept inside
+//! their limits (revolute joints wrapped by 2π when that brings them inside).
+//! Deterministic per seed.
 
 use nalgebra::{Isometry3, Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;

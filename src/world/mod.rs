@@ -118,7 +118,9 @@ impl World {
         m.self_pairs.iter().map(|&(a, b)| (m.bodies[a].name.as_str(), m.bodies[b].name.as_str())).collect()
     }
     /// Up to `max_solutions` distinct in-limit configurations putting the TCP at
-    /// `pose_world_tcp`, deterministic for a given `seed`. Takes no configuration, so
+    /// `pose_world_tcp`, deterministic for a given `seed`. For an arm with a closed
+    /// form (a 6R spherical wrist, or three parallel axes) every posture at its turn
+    /// nearest home comes first, nearest home first, and `seed` is not used. Takes no configuration, so
     /// it cannot panic on one; a non-finite pose simply has no solution.
     pub fn ik(&self, r: RobotId, pose_world_tcp: &Pose, seed: u64, max_solutions: usize) -> Vec<Config> {
         ik::solve(&self.robots[r.index()], pose_world_tcp, seed, max_solutions)
