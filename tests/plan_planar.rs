@@ -5,8 +5,8 @@ mod common;
 
 use common::planar::{cell_of, grid_min_removals, label_grid, random_world, Planar, Rect};
 use declutter::plan::{Goal, Mode, PrmOptions, RobotPlanner, Space, Unreachable};
-use declutter::resolve::{ObjectId, Objective, PlannerSettings};
-use declutter::world::{Check, JointPath, ObjectSet};
+use declutter::resolve::{FixedId, ObjectId, Objective, PlannerSettings};
+use declutter::world::{Blocker, Check, JointPath, ObjectSet};
 
 fn set(ids: &[u32]) -> ObjectSet {
     ids.iter().map(|&i| ObjectId(i)).collect()
@@ -88,7 +88,15 @@ fn grasp_queries_label_the_whole_motion() {
     // No grasps at all.
     assert_eq!(p.query(&Goal::Grasp(ObjectId(2))).result, Err(Unreachable::NoGraspSolution));
     // A target configuration inside the wall.
-    assert_eq!(p.query(&Goal::Reach(vec![1.57, 0.0, 0.0].into())).result, Err(Unreachable::GoalBlocked));
+    // The proof names the body (and the link that hits it).
+    let inside = p.query(&Goal::Reach(vec![1.57, 0.0, 0.0].into())).result;
+    assert!(
+        matches!(&inside, Err(Unreachable::GoalBlocked(Blocker::Fixed { body: FixedId(0), link })) if link.starts_with("link")),
+        "{inside:?}"
+    );
+    // Outside the limits: the joint is named.
+    let beyond = p.query(&Goal::Reach(vec![0.0, 3.5, 0.0].into())).result;
+    assert_eq!(beyond, Err(Unreachable::GoalBlocked(Blocker::JointLimit { joint: "j1".into(), value: 3.5 })));
 }
 
 #[test]

@@ -26,9 +26,9 @@ use super::layers::{
 use super::roadmap::{mix, Roadmap};
 use super::search::{fewest_removals, fewest_vertices, Found};
 use super::space::{Mode, Space};
-use super::{Answer, FoundPath, Goal, QueryStats, Unreachable};
+use super::{Answer, Budget, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
-use crate::world::{Check, Config, GraspConfig, JointPath, ObjectSet};
+use crate::world::{Blocker, Check, Config, GraspConfig, JointPath, ObjectSet};
 
 /// Tuning beyond [`PlannerSettings`].
 #[derive(Clone, Debug, PartialEq)]
@@ -136,30 +136,16 @@ impl<S: Space> RobotPlanner<S> {
         stats: &mut QueryStats,
         checks: &mut u64,
     ) -> Result<FoundPath, Unreachable> {
-        let dof = self.space.dof();
         // Goals: (object, grasps) or a single configuration.
         let (object, goals): (Option<ObjectId>, Vec<GraspGoal>) = match goal {
             Goal::Reach(q) => {
-                let lim = self.space.limits();
-                if q.len() != dof || q.iter().zip(lim).any(|(v, (lo, hi))| v < lo || v > hi) {
-                    return Err(Unreachable::GoalBlocked);
+                if let Some(b) = self.outside_limits(q, checks) {
+                    return Err(Unreachable::GoalBlocked(b));
                 }
                 let (id, lab) = self.goal_node(q, checks);
-                if lab.is_none() {
-                    return Err(Unreachable::GoalBlocked);
-                }
-
+                let Some(lab) = lab else { return Err(Unreachable::GoalBlocked(self.blocker(q, checks))) };
                 let cfg = GraspConfig { grasp: 0, q_grasp: Config(q.to_vec()), q_pregrasp: Config(q.to_vec()) };
-                (
-                    None,
-                    vec![GraspGoal {
-                        cfg,
-                        key: 0,
-                        pre: id,
-                        pre_set: lab.unwrap_or_default(),
-                        approach: ObjectSet::new(),
-                    }],
-                )
+                (None, vec![GraspGoal { cfg, key: 0, pre: id, pre_set: lab, approach: ObjectSet::new() }])
             }
             Goal::Grasp(o) => {
                 let grasps = match self.lock(|s| s.grasps.get(o).cloned(), checks) {
@@ -173,24 +159,24 @@ impl<S: Space> RobotPlanner<S> {
                 if grasps.is_empty() {
                     return Err(Unreachable::NoGraspSolution);
                 }
-                let goals = self.grasp_goals(*o, grasps, checks);
+                let (goals, blockers) = self.grasp_goals(*o, grasps, checks);
                 if goals.is_empty() {
-                    return Err(Unreachable::ApproachBlocked);
+                    return Err(Unreachable::ApproachBlocked { blockers });
                 }
                 (Some(*o), goals)
             }
         };
         stats.paths = goals.len() as u64;
         let drop = match object {
-            Some(_) => self.drop_node(checks),
+            Some(_) => Some(self.drop_node(checks).map_err(Unreachable::DropBlocked)?),
             None => None,
         };
-        if object.is_some() && drop.is_none() {
-            return Err(Unreachable::NoPath);
-        }
         let max_r = Roadmap::max_rounds(self.opts.first_batch, self.settings.max_samples);
         let mut best: Option<(Cand, usize)> = None;
+        let mut timed_out = false;
+        let mut last = 0;
         for r in 0..=max_r {
+            last = r;
             self.ensure_round(r, stats, checks);
             // fewest_removals keeps the best answer, so later rounds only look for smaller sets.
             let bound = match (&best, objective) {
@@ -238,10 +224,15 @@ impl<S: Space> RobotPlanner<S> {
                 }
             }
             if self.settings.time_budget.is_some_and(|tb| t0.elapsed().as_secs_f64() > tb) {
+                timed_out = r < max_r;
                 break;
             }
         }
-        let Some((cand, _)) = best else { return Err(Unreachable::NoPath) };
+        let Some((cand, _)) = best else {
+            let samples = self.lock(|s| s.map.rounds.get(last).map_or(0, |e| e.samples), checks);
+            let max_samples = self.settings.max_samples as u64;
+            return Err(Unreachable::BudgetExhausted(Budget { samples, max_samples, timed_out }));
+        };
         Ok(self.assemble(&cand, object, &goals, checks))
     }
 
@@ -306,28 +297,63 @@ impl<S: Space> RobotPlanner<S> {
         (id, lab)
     }
 
-    /// The node carried objects are taken to: home itself, or a goal node.
-    fn drop_node(&self, checks: &mut u64) -> Option<Node> {
+    /// The node carried objects are taken to: home itself, or a goal node; or what
+    /// blocks it.
+    fn drop_node(&self, checks: &mut u64) -> Result<Node, Blocker> {
         let (home, drop) = (self.space.home(), self.space.drop_config());
         let home_ok = self.lock(|s| s.map.home_ok, checks);
         if !home_ok {
-            return None;
+            return Err(self.blocker(home, checks));
         }
         if home == drop {
-            return Some(Node::Map(0));
+            return Ok(Node::Map(0));
         }
-        let (id, lab) = self.goal_node(drop, checks);
-        lab.map(|_| Node::Goal(id))
+        if let Some(b) = self.outside_limits(drop, checks) {
+            return Err(b);
+        }
+        match self.goal_node(drop, checks) {
+            (id, Some(_)) => Ok(Node::Goal(id)),
+            (_, None) => Err(self.blocker(drop, checks)),
+        }
+    }
+
+    /// What blocks a configuration known to be blocked (checked again: failures only).
+    fn blocker(&self, q: &[f64], checks: &mut u64) -> Blocker {
+        match self.space.check(q, &Mode::default(), checks) {
+            Check::Blocked(b) => b,
+            // A space whose checks changed their mind: say so rather than invent a body.
+            Check::Touches(_) => Blocker::JointLimit { joint: "(unknown)".into(), value: f64::NAN },
+        }
+    }
+
+    /// The first joint of `q` outside its limits (or a wrong joint count), as a block.
+    fn outside_limits(&self, q: &[f64], checks: &mut u64) -> Option<Blocker> {
+        let lim = self.space.limits();
+        let bad = q.len() != self.space.dof() || q.iter().zip(lim).any(|(v, (lo, hi))| v < lo || v > hi);
+        if !bad {
+            return None;
+        }
+        // A world robot names the joint; a test space may not check limits at all.
+        if let Check::Blocked(b @ Blocker::JointLimit { .. }) = self.space.check(q, &Mode::default(), checks) {
+            return Some(b);
+        }
+        let i = q.iter().zip(lim).position(|(v, (lo, hi))| v < lo || v > hi).unwrap_or(q.len().min(lim.len()));
+        Some(Blocker::JointLimit { joint: format!("#{}", i + 1), value: q.get(i).copied().unwrap_or(f64::NAN) })
     }
 
     /// selectGrasps results made into goals; grasps whose pre-grasp or straight
     /// approach hits something fixed (or the pre-grasp touches the object) are dropped.
-    fn grasp_goals(&self, o: ObjectId, grasps: Vec<GraspConfig>, checks: &mut u64) -> Vec<GraspGoal> {
+    /// Also returns, when no grasp is left, what blocked each (distinct blocks, in order).
+    fn grasp_goals(&self, o: ObjectId, grasps: Vec<GraspConfig>, checks: &mut u64) -> (Vec<GraspGoal>, Vec<Blocker>) {
         let mut out = Vec::new();
+        let mut blocked = Vec::new();
         // Keyed by position: selectGrasps may return several solutions of one grasp.
         for (g, cfg) in grasps.into_iter().enumerate() {
             let (pre, lab) = self.goal_node(&cfg.q_pregrasp, checks);
-            let Some(lab) = lab else { continue };
+            let Some(lab) = lab else {
+                blocked.push((cfg.clone(), None));
+                continue;
+            };
             if lab.contains(o) {
                 continue;
             }
@@ -350,7 +376,7 @@ impl<S: Space> RobotPlanner<S> {
                         item,
                         a: cfg.q_pregrasp.to_vec(),
                         b: None,
-                        mode: Mode { absent: ObjectSet::single(o), held: Some(held) },
+                        mode: Mode { absent: ObjectSet::single(o), held: Some(held.clone()) },
                         grasp: Some(cfg.q_grasp.to_vec()),
                         empty: None,
                     };
@@ -359,11 +385,33 @@ impl<S: Space> RobotPlanner<S> {
                     l
                 }
             };
-            if let Some(approach) = approach {
-                out.push(GraspGoal { cfg, key: g, pre, pre_set: lab, approach });
+            match approach {
+                Some(approach) => out.push(GraspGoal { cfg, key: g, pre, pre_set: lab, approach }),
+                None => blocked.push((cfg, Some(held))),
             }
         }
-        out
+        if !out.is_empty() {
+            return (out, Vec::new());
+        }
+        // Only on failure: check the blocked grasps again to say what blocks them.
+        let mut blockers: Vec<Blocker> = Vec::new();
+        for (cfg, held) in blocked {
+            let b = match held {
+                None => self.blocker(&cfg.q_pregrasp, checks),
+                Some(held) => {
+                    let mode = Mode { absent: ObjectSet::single(o), held: Some(held) };
+                    let res = self.settings.resolution;
+                    match self.space.check_segment(&cfg.q_grasp, &cfg.q_pregrasp, res, &mode, checks) {
+                        Check::Blocked(b) => b,
+                        Check::Touches(_) => continue,
+                    }
+                }
+            };
+            if !blockers.contains(&b) {
+                blockers.push(b);
+            }
+        }
+        (out, blockers)
     }
 
     /// Labels one item. Segments, the straight approach included, are checked every
