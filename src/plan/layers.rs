@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use super::knn::dist2;
 use super::roadmap::Roadmap;
-use super::search::{mask, Found, Graph, Lab};
+use super::search::{mask, Found, Graph, Lab, Mask};
 use super::space::Mode;
 use crate::resolve::ObjectId;
 use crate::world::{GraspConfig, Held, ObjectSet};
@@ -79,7 +79,7 @@ impl Rule {
             Rule::Plain => mask(s),
             Rule::Forbid(o) if s.contains(o) => return Lab::Blocked,
             Rule::Forbid(_) => mask(s),
-            Rule::Strip(o) => mask(s) & !(1 << o.index().min(127)),
+            Rule::Strip(o) => mask(s).without(o),
         };
         if unknown {
             Lab::Unknown(s)
@@ -316,7 +316,7 @@ pub(super) fn build(
                         let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
                         match empty {
                             Some(l) => rule.bound(Some(&strip(&l))),
-                            None => Lab::Unknown(0),
+                            None => Lab::Unknown(Mask::default()),
                         }
                     }
                 },
@@ -333,11 +333,11 @@ pub(super) fn build(
                     Some(l) => rule.known(l.as_ref()),
                     None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
                         (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
-                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x | y),
+                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x.union(y)),
                     },
                 };
                 // Edges no answer better than `bound` can use are left out of the graph.
-                if lab.bound().is_none_or(|m| m.count_ones() >= bound) {
+                if lab.bound().is_none_or(|m| m.count() >= bound) {
                     return;
                 }
                 b.g.add_edge(la, lb, len, lab);

@@ -13,6 +13,7 @@
 
 mod knn;
 mod layers;
+mod mask;
 mod planner;
 mod prm;
 mod roadmap;

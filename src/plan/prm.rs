@@ -139,11 +139,11 @@ impl<S: Space> RobotPlanner<S> {
         // Goals: (object, grasps) or a single configuration.
         let (object, goals): (Option<ObjectId>, Vec<GraspGoal>) = match goal {
             Goal::Reach(q) => {
-                if let Some(b) = self.outside_limits(q, checks) {
+                if let Some(b) = self.outside_limits(q) {
                     return Err(Unreachable::GoalBlocked(b));
                 }
                 let (id, lab) = self.goal_node(q, checks);
-                let Some(lab) = lab else { return Err(Unreachable::GoalBlocked(self.blocker(q, checks))) };
+                let Some(lab) = lab else { return Err(Unreachable::GoalBlocked(self.blocker(q))) };
                 let cfg = GraspConfig { grasp: 0, q_grasp: Config(q.to_vec()), q_pregrasp: Config(q.to_vec()) };
                 (None, vec![GraspGoal { cfg, key: 0, pre: id, pre_set: lab, approach: ObjectSet::new() }])
             }
@@ -303,23 +303,24 @@ impl<S: Space> RobotPlanner<S> {
         let (home, drop) = (self.space.home(), self.space.drop_config());
         let home_ok = self.lock(|s| s.map.home_ok, checks);
         if !home_ok {
-            return Err(self.blocker(home, checks));
+            return Err(self.blocker(home));
         }
         if home == drop {
             return Ok(Node::Map(0));
         }
-        if let Some(b) = self.outside_limits(drop, checks) {
+        if let Some(b) = self.outside_limits(drop) {
             return Err(b);
         }
         match self.goal_node(drop, checks) {
             (id, Some(_)) => Ok(Node::Goal(id)),
-            (_, None) => Err(self.blocker(drop, checks)),
+            (_, None) => Err(self.blocker(drop)),
         }
     }
 
     /// What blocks a configuration known to be blocked (checked again: failures only).
-    fn blocker(&self, q: &[f64], checks: &mut u64) -> Blocker {
-        match self.space.check(q, &Mode::default(), checks) {
+    /// Checks made only to explain a failure are not counted in the query's figures.
+    fn blocker(&self, q: &[f64]) -> Blocker {
+        match self.space.check(q, &Mode::default(), &mut 0) {
             Check::Blocked(b) => b,
             // A space whose checks changed their mind: say so rather than invent a body.
             Check::Touches(_) => Blocker::JointLimit { joint: "(unknown)".into(), value: f64::NAN },
@@ -327,14 +328,14 @@ impl<S: Space> RobotPlanner<S> {
     }
 
     /// The first joint of `q` outside its limits (or a wrong joint count), as a block.
-    fn outside_limits(&self, q: &[f64], checks: &mut u64) -> Option<Blocker> {
+    fn outside_limits(&self, q: &[f64]) -> Option<Blocker> {
         let lim = self.space.limits();
         let bad = q.len() != self.space.dof() || q.iter().zip(lim).any(|(v, (lo, hi))| v < lo || v > hi);
         if !bad {
             return None;
         }
         // A world robot names the joint; a test space may not check limits at all.
-        if let Check::Blocked(b @ Blocker::JointLimit { .. }) = self.space.check(q, &Mode::default(), checks) {
+        if let Check::Blocked(b @ Blocker::JointLimit { .. }) = self.space.check(q, &Mode::default(), &mut 0) {
             return Some(b);
         }
         let i = q.iter().zip(lim).position(|(v, (lo, hi))| v < lo || v > hi).unwrap_or(q.len().min(lim.len()));
@@ -397,11 +398,11 @@ impl<S: Space> RobotPlanner<S> {
         let mut blockers: Vec<Blocker> = Vec::new();
         for (cfg, held) in blocked {
             let b = match held {
-                None => self.blocker(&cfg.q_pregrasp, checks),
+                None => self.blocker(&cfg.q_pregrasp),
                 Some(held) => {
                     let mode = Mode { absent: ObjectSet::single(o), held: Some(held) };
                     let res = self.settings.resolution;
-                    match self.space.check_segment(&cfg.q_grasp, &cfg.q_pregrasp, res, &mode, checks) {
+                    match self.space.check_segment(&cfg.q_grasp, &cfg.q_pregrasp, res, &mode, &mut 0) {
                         Check::Blocked(b) => b,
                         Check::Touches(_) => continue,
                     }
@@ -504,7 +505,7 @@ impl<S: Space> RobotPlanner<S> {
                 Objective::FewestRemovals => found
                     .iter()
                     .enumerate()
-                    .filter_map(|(i, f)| f.as_ref().map(|f| ((f.set.count_ones(), Len(f.len), i), i)))
+                    .filter_map(|(i, f)| f.as_ref().map(|f| ((f.set.count(), Len(f.len), i), i)))
                     .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
                     .map(|(_, i)| vec![i])
                     .unwrap_or_default(),
