@@ -38,6 +38,17 @@ pub(super) struct GoalNode {
     pub(super) q: Vec<f64>,
     /// Cumulative neighbours at round r (index r).
     pub(super) nbrs: Vec<Vec<u32>>,
+    /// The tree grown from this goal (see `RobotPlanner::grow_tree`): (node, parent,
+    /// round added), in growth order; its nodes are goal nodes of their own.
+    pub(super) tree: Vec<(u32, u32, usize)>,
+    /// Rounds the tree has been grown for.
+    pub(super) tree_rounds: usize,
+}
+
+impl GoalNode {
+    pub(super) fn new(q: &[f64]) -> GoalNode {
+        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0 }
+    }
 }
 
 pub(super) type Carried = (Held, Vec<f64>, Vec<f64>);
@@ -233,6 +244,7 @@ pub(super) fn goal_nbrs(s: &mut State, id: u32, r: usize, k: usize) -> Vec<u32> 
     while g.nbrs.len() <= r {
         let rr = g.nbrs.len();
         let mut n: Vec<u32> = if rr == 0 { Vec::new() } else { g.nbrs[rr - 1].clone() };
+        let k = super::roadmap::neighbours(k, s.map.dof, s.map.rounds[rr].verts);
         n.extend(s.map.trees[rr].nearest(&g.q, k, |_| false).into_iter().map(|(_, i)| i));
         n.sort_unstable();
         n.dedup();
@@ -250,7 +262,7 @@ pub(super) fn build(
     object: Option<ObjectId>,
     goal: &GraspGoal,
     drop: Option<Node>,
-    bound: u32,
+    (bound, trees): (u32, bool),
 ) -> Built {
     use ModeKey::{Carry, Empty};
     let pre = goal.pre;
@@ -268,6 +280,16 @@ pub(super) fn build(
                 }
                 _ => layers.push((carry, Rule::Plain, vec![pre])),
             }
+        }
+    }
+    // The goal's tree (up to round r) joins every layer the goal is in.
+    let tree: Vec<(u32, u32)> = match trees {
+        true => s.goals[pre as usize].tree.iter().filter(|t| t.2 <= r).map(|t| (t.0, t.1)).collect(),
+        false => Vec::new(),
+    };
+    for (_, _, extras) in layers.iter_mut() {
+        if extras.contains(&pre) {
+            extras.extend(tree.iter().map(|t| t.0));
         }
     }
     let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -359,6 +381,15 @@ pub(super) fn build(
                 let len = dist2(qx, s.map.q(v)).sqrt();
                 let known = lookup(s, Item::Edge(mode, Node::Map(v), Node::Goal(x)));
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
+            }
+        }
+        if extras.contains(&pre) {
+            let at = |x: u32| off + n + extras.iter().position(|&y| y == x).expect("tree node in extras") as u32;
+            for &(c, p) in &tree {
+                let (nc, np) = (Node::Goal(c), Node::Goal(p));
+                let len = dist2(&s.goals[c as usize].q, &s.goals[p as usize].q).sqrt();
+                let known = lookup(s, Item::Edge(mode, nc.min(np), nc.max(np)));
+                add_edge(&mut b, at(p), at(c), np, nc, len, known);
             }
         }
     }

@@ -23,12 +23,24 @@ use rayon::prelude::*;
 use super::layers::{
     build, exact_set, job, lookup, node_q, store, Built, GoalNode, GraspGoal, Item, Job, ModeKey, Node, State,
 };
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::knn::dist2;
 use super::roadmap::{mix, Roadmap};
 use super::search::{fewest_removals, fewest_vertices, Found};
 use super::space::{Mode, Space};
 use super::{Answer, Budget, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
 use crate::world::{Blocker, Check, Config, GraspConfig, JointPath, ObjectSet};
+
+/// Tree growth per round: the first round's attempts, doubling, capped.
+const TREE_FIRST: usize = 8;
+const TREE_MAX: usize = 128;
+/// Longest step of a tree extension (radians, Euclidean in joint space).
+const TREE_STEP: f64 = 0.3;
+/// The seed stream of the goal trees.
+const TREE_STREAM: u64 = 0x7472_6565;
 
 /// Tuning beyond [`PlannerSettings`].
 #[derive(Clone, Debug, PartialEq)]
@@ -197,7 +209,15 @@ impl<S: Space> RobotPlanner<S> {
             {
                 break;
             }
-            let cand = self.search_round(r, object, &live, drop, (objective, bound), checks).map(|mut c| {
+            // Until a first path is found, trees grown from the goals search their
+            // neighbourhood, where narrow entrances (a cage, a shelf) usually are.
+            let trees = best.is_none() && r > 0;
+            if trees {
+                for g in &live {
+                    self.grow_tree(g.pre, r, checks);
+                }
+            }
+            let cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks).map(|mut c| {
                 c.goal = goals.iter().position(|g| g.key == live[c.goal].key).expect("live goal");
                 c
             });
@@ -286,7 +306,7 @@ impl<S: Space> RobotPlanner<S> {
         let id = self.lock(
             |s| {
                 let id = *s.goal_ids.entry(key).or_insert_with(|| {
-                    s.goals.push(GoalNode { q: q.to_vec(), nbrs: Vec::new() });
+                    s.goals.push(GoalNode::new(q));
                     (s.goals.len() - 1) as u32
                 });
                 s.labels.insert(Item::Vertex(ModeKey::Empty, Node::Goal(id)), lab.clone());
@@ -295,6 +315,52 @@ impl<S: Space> RobotPlanner<S> {
             checks,
         );
         (id, lab)
+    }
+
+    /// Grows the tree of goal node `root` through round `r`: an RRT from the goal whose
+    /// nodes join the search graphs beside it (each also linked to its nearest roadmap
+    /// vertices), so a goal inside a narrow place reaches out of it before the roadmap
+    /// is dense there. Round `rr` adds up to `TREE_FIRST << (rr - 1)` nodes (capped)
+    /// from an RNG seeded by (seed, goal, rr): the tree is a pure function of those,
+    /// whichever query grows it. Checked under the robot's lock, without rayon.
+    fn grow_tree(&self, root: u32, r: usize, checks: &mut u64) {
+        let mut c = 0;
+        self.lock(
+            |s| {
+                let q_root = s.goals[root as usize].q.clone();
+                let key = mix(&q_root.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+                let lim = self.space.limits().to_vec();
+                while s.goals[root as usize].tree_rounds < r {
+                    let rr = s.goals[root as usize].tree_rounds + 1;
+                    let mut rng = ChaCha8Rng::seed_from_u64(mix(&[self.seed, TREE_STREAM, key, rr as u64]));
+                    let attempts = (TREE_FIRST << (rr - 1).min(16)).min(TREE_MAX);
+                    for _ in 0..attempts {
+                        let target: Vec<f64> =
+                            lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
+                        let nodes = std::iter::once(root).chain(s.goals[root as usize].tree.iter().map(|t| t.0));
+                        let near = nodes
+                            .map(|x| (dist2(&s.goals[x as usize].q, &target), x))
+                            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                        let Some((d2, near)) = near else { break };
+                        let q_near = s.goals[near as usize].q.clone();
+                        let t = (TREE_STEP / d2.sqrt().max(f64::MIN_POSITIVE)).min(1.0);
+                        let q: Vec<f64> = q_near.iter().zip(&target).map(|(a, b)| a + t * (b - a)).collect();
+                        let Check::Touches(l) = self.space.check(&q, &Mode::default(), &mut c) else { continue };
+                        let res = self.settings.resolution;
+                        let seg = self.space.check_segment(&q_near, &q, res, &Mode::default(), &mut c);
+                        let Check::Touches(le) = seg else { continue };
+                        s.goals.push(GoalNode::new(&q));
+                        let id = (s.goals.len() - 1) as u32;
+                        s.labels.insert(Item::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
+                        s.labels.insert(Item::Edge(ModeKey::Empty, Node::Goal(near), Node::Goal(id)), Some(le));
+                        s.goals[root as usize].tree.push((id, near, rr));
+                    }
+                    s.goals[root as usize].tree_rounds = rr;
+                }
+            },
+            checks,
+        );
+        *checks += c;
     }
 
     /// The node carried objects are taken to: home itself, or a goal node; or what
@@ -467,7 +533,7 @@ impl<S: Space> RobotPlanner<S> {
         object: Option<ObjectId>,
         goals: &[GraspGoal],
         drop: Option<Node>,
-        (objective, bound): (Objective, u32),
+        (objective, bound, trees): (Objective, u32, bool),
         checks: &mut u64,
     ) -> Option<Cand> {
         let mut built: Vec<Built> = self.lock(
@@ -475,7 +541,7 @@ impl<S: Space> RobotPlanner<S> {
                 if !s.map.home_ok {
                     return Vec::new();
                 }
-                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, bound)).collect()
+                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, (bound, trees))).collect()
             },
             checks,
         );
