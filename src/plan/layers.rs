@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use super::knn::dist2;
 use super::roadmap::Roadmap;
-use super::search::{mask, Found, Graph, Lab, Mask};
+use super::search::{mask, Found, Lab, LabelGraph, Mask};
 use super::space::Mode;
 use crate::resolve::ObjectId;
 use crate::world::{GraspConfig, Held, ObjectSet};
@@ -24,9 +24,10 @@ pub(super) enum ModeKey {
     Carry(ObjectId, u32),
 }
 
-/// Anything that gets a label.
+/// Anything that gets a label (the key of the label store; the AND/OR graph's
+/// `andor::Item` is a different thing, an object or the target configuration).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(super) enum Item {
+pub(super) enum LabelKey {
     Vertex(ModeKey, Node),
     /// Nodes in increasing order.
     Edge(ModeKey, Node, Node),
@@ -59,9 +60,9 @@ pub(super) struct State {
     pub(super) goal_ids: HashMap<Vec<u64>, u32>,
     /// Empty-hand labels of roadmap edges, by edge index (`None`: not checked yet).
     pub(super) map_edges: Vec<Option<Option<ObjectSet>>>,
-    pub(super) labels: HashMap<Item, Option<ObjectSet>>,
+    pub(super) labels: HashMap<LabelKey, Option<ObjectSet>>,
     /// Segment items whose stored label comes from the certifying (fine) check.
-    pub(super) certified: std::collections::HashSet<Item>,
+    pub(super) certified: std::collections::HashSet<LabelKey>,
     /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
     pub(super) helds: HashMap<(ObjectId, u32), Carried>,
     /// `selectGrasps` answers, computed once per object (IK is not cheap).
@@ -102,11 +103,11 @@ impl Rule {
 
 /// A layered search graph for one goal at one round, with the key of every element.
 pub(super) struct Built {
-    pub(super) g: Graph,
-    pub(super) vkey: Vec<Item>,
+    pub(super) g: LabelGraph,
+    pub(super) vkey: Vec<LabelKey>,
     pub(super) vrule: Vec<Rule>,
     /// `None` for elements whose label was final at build time.
-    pub(super) ekey: Vec<Option<Item>>,
+    pub(super) ekey: Vec<Option<LabelKey>>,
     pub(super) erule: Vec<Rule>,
     /// Layer of each vertex and its node.
     pub(super) vnode: Vec<(u8, Node)>,
@@ -130,7 +131,7 @@ pub(super) struct GraspGoal {
 
 /// A configuration-level job for the workers.
 pub(super) struct Job {
-    pub(super) item: Item,
+    pub(super) item: LabelKey,
     pub(super) a: Vec<f64>,
     pub(super) b: Option<Vec<f64>>,
     pub(super) mode: Mode,
@@ -171,10 +172,10 @@ pub(super) fn node_q(s: &State, n: Node) -> &[f64] {
 }
 
 /// The stored label of an item, if checked.
-pub(super) fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
+pub(super) fn lookup(s: &State, it: LabelKey) -> Option<Option<ObjectSet>> {
     match it {
-        Item::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
-        Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
+        LabelKey::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
+        LabelKey::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
             let e = map_edge(s, a, b)?;
             s.map_edges[e].clone()
         }
@@ -182,8 +183,8 @@ pub(super) fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
     }
 }
 
-pub(super) fn store(s: &mut State, it: Item, l: Option<ObjectSet>) {
-    if let Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
+pub(super) fn store(s: &mut State, it: LabelKey, l: Option<ObjectSet>) {
+    if let LabelKey::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
         if let Some(e) = map_edge(s, a, b) {
             s.map_edges[e] = Some(l);
             return;
@@ -208,23 +209,23 @@ pub(super) fn mode_of(s: &State, m: ModeKey) -> Mode {
     }
 }
 
-pub(super) fn job(s: &State, it: Item) -> Job {
+pub(super) fn job(s: &State, it: LabelKey) -> Job {
     match it {
-        Item::Vertex(m, n) => {
+        LabelKey::Vertex(m, n) => {
             Job { item: it, a: node_q(s, n).to_vec(), b: None, mode: mode_of(s, m), grasp: None, empty: None }
         }
-        Item::Edge(m, a, b) => Job {
+        LabelKey::Edge(m, a, b) => Job {
             item: it,
             a: node_q(s, a).to_vec(),
             b: Some(node_q(s, b).to_vec()),
             mode: mode_of(s, m),
             grasp: None,
             empty: match m {
-                ModeKey::Carry(..) => lookup(s, Item::Edge(ModeKey::Empty, a, b)),
+                ModeKey::Carry(..) => lookup(s, LabelKey::Edge(ModeKey::Empty, a, b)),
                 ModeKey::Empty => None,
             },
         },
-        Item::Approach(o, g) => {
+        LabelKey::Approach(o, g) => {
             let (held, q_grasp, q_pre) = s.helds[&(o, g)].clone();
             Job {
                 item: it,
@@ -304,7 +305,7 @@ pub(super) fn build(
     let n = s.map.rounds[r].verts as u32;
     let m = s.map.rounds[r].edges;
     let mut b = Built {
-        g: Graph::default(),
+        g: LabelGraph::default(),
         vkey: Vec::new(),
         vrule: Vec::new(),
         ekey: Vec::new(),
@@ -328,14 +329,14 @@ pub(super) fn build(
         };
         let nodes = (0..n).map(Node::Map).chain(extras.iter().map(|&x| Node::Goal(x)));
         for node in nodes {
-            let item = Item::Vertex(mode, node);
+            let item = LabelKey::Vertex(mode, node);
             let lab = match (mode, node) {
                 (Empty, Node::Map(v)) => rule.known(Some(&s.map.vlab[v as usize])),
                 _ => match lookup(s, item) {
                     Some(l) => rule.known(l.as_ref()),
                     None => {
                         // Carrying: the arm's own contacts stay, the object's are unknown.
-                        let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
+                        let empty = lookup(s, LabelKey::Vertex(Empty, node)).flatten();
                         match empty {
                             Some(l) => rule.bound(Some(&strip(&l))),
                             None => Lab::Unknown(Mask::default()),
@@ -350,7 +351,7 @@ pub(super) fn build(
         }
         let add_edge =
             |b: &mut Built, la: u32, lb: u32, na: Node, nb: Node, len: f64, known: Option<Option<ObjectSet>>| {
-                let item = Item::Edge(mode, na.min(nb), na.max(nb));
+                let item = LabelKey::Edge(mode, na.min(nb), na.max(nb));
                 let lab = match known {
                     Some(l) => rule.known(l.as_ref()),
                     None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
@@ -370,7 +371,7 @@ pub(super) fn build(
             let (va, vb) = s.map.edges[e];
             let known = match mode {
                 Empty => s.map_edges[e].clone(),
-                Carry(..) => s.labels.get(&Item::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
+                Carry(..) => s.labels.get(&LabelKey::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
             };
             add_edge(&mut b, off + va, off + vb, Node::Map(va), Node::Map(vb), s.map.elen[e], known);
         }
@@ -379,7 +380,7 @@ pub(super) fn build(
             let qx = &s.goals[x as usize].q;
             for &v in &nbrs[&x] {
                 let len = dist2(qx, s.map.q(v)).sqrt();
-                let known = lookup(s, Item::Edge(mode, Node::Map(v), Node::Goal(x)));
+                let known = lookup(s, LabelKey::Edge(mode, Node::Map(v), Node::Goal(x)));
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
             }
         }
@@ -388,7 +389,7 @@ pub(super) fn build(
             for &(c, p) in &tree {
                 let (nc, np) = (Node::Goal(c), Node::Goal(p));
                 let len = dist2(&s.goals[c as usize].q, &s.goals[p as usize].q).sqrt();
-                let known = lookup(s, Item::Edge(mode, nc.min(np), nc.max(np)));
+                let known = lookup(s, LabelKey::Edge(mode, nc.min(np), nc.max(np)));
                 add_edge(&mut b, at(p), at(c), np, nc, len, known);
             }
         }
@@ -413,7 +414,7 @@ pub(super) fn build(
             // The approach and retreat, labelled like an edge: coarsely first, certified
             // when a winning path uses it.
             let len = 2.0 * dist2(&goal.cfg.q_pregrasp, &goal.cfg.q_grasp).sqrt();
-            let item = Item::Approach(o, goal.key);
+            let item = LabelKey::Approach(o, goal.key);
             if let Some(Some(l)) = lookup(s, item) {
                 b.g.add_edge(local(0, Node::Goal(pre)), local(1, Node::Goal(pre)), len, Lab::Known(mask(&l)));
                 b.ekey.push(Some(item));

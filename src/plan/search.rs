@@ -39,9 +39,10 @@ impl Lab {
     }
 }
 
-/// An undirected graph with labelled vertices and edges.
+/// An undirected graph with labelled vertices and edges (what the searches run on;
+/// `andor::Graph` is the AND/OR precedence graph).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Graph {
+pub(crate) struct LabelGraph {
     /// Per vertex: (neighbour, edge).
     pub adj: Vec<Vec<(u32, u32)>>,
     pub vlab: Vec<Lab>,
@@ -49,7 +50,7 @@ pub(crate) struct Graph {
     pub elab: Vec<Lab>,
 }
 
-impl Graph {
+impl LabelGraph {
     pub(crate) fn add_vertex(&mut self, lab: Lab) -> u32 {
         self.adj.push(Vec::new());
         self.vlab.push(lab);
@@ -74,9 +75,10 @@ pub(crate) struct Found {
     pub len: f64,
 }
 
-/// A total order on f64 keys for the heaps (lengths are finite).
-#[derive(Clone, Copy, PartialEq)]
-struct Len(f64);
+/// A path length as a key: a total order on f64 (lengths are finite), for the heaps
+/// and for ranking candidates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Len(pub f64);
 impl Eq for Len {}
 impl PartialOrd for Len {
     fn partial_cmp(&self, o: &Len) -> Option<Ordering> {
@@ -100,12 +102,12 @@ impl Ord for Len {
 ///
 /// States with `bound` or more objects are dropped: the caller already holds an
 /// answer that small, so only strictly smaller sets are worth finding.
-pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Found> {
+pub(crate) fn fewest_removals(g: &LabelGraph, start: u32, goal: u32, bound: u32) -> Option<Found> {
     let best = smallest_set(g, start, goal, bound)?;
     shortest_within(g, start, goal, best)
 }
 
-fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
+fn smallest_set(g: &LabelGraph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
     let start_set = g.vlab[start as usize].bound()?.clone();
     if start_set.count() >= bound {
         return None;
@@ -145,7 +147,7 @@ fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
 
 /// The path a search's `prev` links spell from `goal` back to `start`, with the union of
 /// the labels on it (the searches only walk unblocked elements).
-fn trace_back(g: &Graph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -> Found {
+fn trace_back(g: &LabelGraph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -> Found {
     let (mut verts, mut edges) = (vec![goal], Vec::new());
     let mut u = goal;
     while u != start {
@@ -166,7 +168,7 @@ fn trace_back(g: &Graph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -
 }
 
 /// The shortest path through elements whose labels lie inside `within`.
-fn shortest_within(g: &Graph, start: u32, goal: u32, within: Mask) -> Option<Found> {
+fn shortest_within(g: &LabelGraph, start: u32, goal: u32, within: Mask) -> Option<Found> {
     let ok = |l: &Lab| l.bound().is_some_and(|s| s.is_subset(&within));
     if !ok(&g.vlab[start as usize]) {
         return None;
@@ -201,7 +203,7 @@ fn shortest_within(g: &Graph, start: u32, goal: u32, within: Mask) -> Option<Fou
 
 /// The paper's rule: the path with the fewest vertices (ties broken by length),
 /// ignoring labels except blocks; its set is the union of the labels on it.
-pub(crate) fn fewest_vertices(g: &Graph, start: u32, goal: u32) -> Option<Found> {
+pub(crate) fn fewest_vertices(g: &LabelGraph, start: u32, goal: u32) -> Option<Found> {
     g.vlab[start as usize].bound()?;
     let n = g.vlab.len();
     let mut best: Vec<(u32, f64)> = vec![(u32::MAX, f64::INFINITY); n];
@@ -247,8 +249,8 @@ mod tests {
 
     /// start 0, goal 3. Short route 0-1-3 touches {0,1}; long route 0-2-4-3 touches {2};
     /// a blocked shortcut 0-3.
-    fn diamond() -> Graph {
-        let mut g = Graph::default();
+    fn diamond() -> LabelGraph {
+        let mut g = LabelGraph::default();
         for _ in 0..5 {
             g.add_vertex(Lab::Known(none()));
         }
@@ -275,7 +277,7 @@ mod tests {
     #[test]
     fn mcr_counts_repeated_labels_once() {
         // Route A touches {5} on three edges; route B touches {6} then {7}.
-        let mut g = Graph::default();
+        let mut g = LabelGraph::default();
         for _ in 0..6 {
             g.add_vertex(Lab::Known(none()));
         }
@@ -294,7 +296,7 @@ mod tests {
         // Vertex 1 is reached cheaply with {0} and expensively with {1}; only {1}
         // combines with the last edge's {1} into a one-object answer. Pruning by
         // length alone would lose it.
-        let mut g = Graph::default();
+        let mut g = LabelGraph::default();
         for _ in 0..4 {
             g.add_vertex(Lab::Known(none()));
         }
@@ -315,7 +317,7 @@ mod tests {
 
     #[test]
     fn vertex_labels_count_and_blocked_vertices_are_avoided() {
-        let mut g = Graph::default();
+        let mut g = LabelGraph::default();
         g.add_vertex(Lab::Known(none()));
         g.add_vertex(Lab::Blocked);
         g.add_vertex(Lab::Known(set(&[3])));
@@ -343,7 +345,7 @@ mod tests {
         };
         for _ in 0..200 {
             let n = 8;
-            let mut g = Graph::default();
+            let mut g = LabelGraph::default();
             for _ in 0..n {
                 let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { none() };
                 g.add_vertex(Lab::Known(l));
@@ -367,7 +369,7 @@ mod tests {
         }
     }
 
-    fn path_within(g: &Graph, mask: u32, goal: u32) -> bool {
+    fn path_within(g: &LabelGraph, mask: u32, goal: u32) -> bool {
         let within: Mask = (0..32).filter(|i| mask & (1 << i) != 0).map(ObjectId).collect();
         let ok = |l: &Lab| l.bound().is_some_and(|s| s.is_subset(&within));
         let mut seen = vec![false; g.vlab.len()];
