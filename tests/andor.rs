@@ -6,9 +6,10 @@ mod common;
 
 use common::{cycle_table, example_3_table, scenario, Table};
 use declutter::diag::{render_one, RenderOptions};
-use declutter::plan::andor::{solve, Cause, Flag, Solution};
+use declutter::plan::andor::{solve, Cause, Flag, Reason, Solution};
 use declutter::plan::Unreachable;
 use declutter::resolve::Scenario;
+use declutter::world::Blocker;
 
 /// Each node as `object r1:F r2:B`, in creation order, with `<-parent/robot`.
 fn nodes(scn: &Scenario, sol: &Solution) -> Vec<String> {
@@ -137,13 +138,13 @@ fn discarded_branch_is_bypassed_by_the_other_robot() {
     let (scn, _) = scenario(2, 4, Some(0), 0);
     let t = Table::new()
         .path(1, 0, &[1])
-        .null(2, 0, Unreachable::NoPath)
+        .null(2, 0, crate::common::gave_up())
         .path(1, 1, &[2])
         .path(2, 1, &[2])
         .path(1, 2, &[1])
         .path(2, 2, &[3])
         .path(1, 3, &[])
-        .null(2, 3, Unreachable::NoPath);
+        .null(2, 3, crate::common::gave_up());
     let sol = solve(&scn, &t);
     assert_eq!(
         nodes(&scn, &sol),
@@ -194,7 +195,7 @@ fn three_robots() {
         .path(2, 1, &[])
         .path(3, 1, &[])
         .path(1, 2, &[3])
-        .null(2, 2, Unreachable::NoPath)
+        .null(2, 2, crate::common::gave_up())
         .path(3, 2, &[]);
     let sol = solve(&scn, &t);
     assert_eq!(
@@ -253,27 +254,67 @@ fn cycle_is_infeasible() {
 #[test]
 fn object_no_robot_can_grasp() {
     let (scn, sources) = scenario(2, 2, Some(0), 0);
+    let self_hit = Blocker::SelfCollision { link_a: "l1".into(), link_b: "l3".into() };
     let t = Table::new()
         .path(1, 0, &[1])
-        .null(2, 0, Unreachable::NoPath)
+        .null(2, 0, crate::common::gave_up())
         .null(1, 1, Unreachable::NoGraspSolution)
-        .null(2, 1, Unreachable::NoPath);
+        .null(2, 1, Unreachable::ApproachBlocked { blockers: vec![self_hit.clone()] });
     let sol = solve(&scn, &t);
     assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:N", "o1 r1:N r2:N <-o0/r1"]);
     let err = sol.outcome.as_ref().unwrap_err();
+    assert!(err.is_proof());
+    let r2_text = "its grasps are reachable, but every approach or retreat carrying it is blocked: links `l1` and \
+                   `l3` collide";
     assert_eq!(
         err.causes,
         [Cause::Ungraspable {
             object: declutter::resolve::ObjectId(1),
             name: "o1".into(),
-            reasons: vec![("r1".into(), Unreachable::NoGraspSolution), ("r2".into(), Unreachable::NoPath)],
+            reasons: vec![
+                (
+                    "r1".into(),
+                    Reason {
+                        why: Unreachable::NoGraspSolution,
+                        text: "no grasp has an inverse-kinematics solution clear of fixed bodies".into()
+                    }
+                ),
+                (
+                    "r2".into(),
+                    Reason { why: Unreachable::ApproachBlocked { blockers: vec![self_hit] }, text: r2_text.into() }
+                ),
+            ],
             span: scn.objects[1].body.span,
         }]
     );
     assert_eq!(
         err.reason(),
-        "`o0` cannot be reached: no robot can grasp `o1` (`r1`: no grasp has an inverse-kinematics solution clear \
-         of fixed bodies; `r2`: every path to a grasp hits something fixed)"
+        format!(
+            "`o0` cannot be reached: no robot can grasp `o1` (`r1`: no grasp has an inverse-kinematics solution \
+             clear of fixed bodies; `r2`: {r2_text})"
+        )
+    );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+#[test]
+fn object_not_found_within_the_budget_is_not_a_proof() {
+    // As above, but `r2` gave up on `o1` at its sampling budget: a bigger one might find a path.
+    let (scn, sources) = scenario(2, 2, Some(0), 0);
+    let t = Table::new()
+        .path(1, 0, &[1])
+        .null(2, 0, crate::common::gave_up())
+        .null(1, 1, Unreachable::NoGraspSolution)
+        .null(2, 1, crate::common::gave_up());
+    let sol = solve(&scn, &t);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert!(!err.is_proof());
+    assert!(matches!(err.causes.as_slice(), [Cause::NotFound { what, .. }] if what == "to grasp `o1`"));
+    assert_eq!(
+        err.reason(),
+        "no way to `o0` was found within the planning budget: no path to grasp `o1` was found within the planning \
+         budget (`r1`: no grasp has an inverse-kinematics solution clear of fixed bodies; `r2`: no path to a grasp \
+         within 5000 samples)"
     );
     insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
 }
@@ -336,14 +377,31 @@ fn a_cheaper_but_cyclic_choice_is_rejected() {
 #[test]
 fn configuration_target_out_of_reach() {
     let (scn, sources) = scenario(2, 1, None, 0);
-    let t = Table::new().null_reach(1, Unreachable::GoalBlocked);
+    let limit = Blocker::JointLimit { joint: "j2".into(), value: -0.5 };
+    let t = Table::new().null_reach(1, Unreachable::GoalBlocked(limit));
     let sol = solve(&scn, &t);
     let err = sol.outcome.as_ref().unwrap_err();
     assert_eq!(
         err.reason(),
-        "`r1 at [0.5, -0.5]` cannot be reached: `r1` cannot reach the target configuration (the configuration \
-         is outside the joint limits or hits something fixed)"
+        "`r1 at [0.5, -0.5]` cannot be reached: `r1` cannot reach the target configuration: it is outside the \
+         limits of joint `j2` (-0.5000 rad)"
     );
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+#[test]
+fn configuration_target_not_found_speaks_of_the_configuration() {
+    let (scn, sources) = scenario(2, 1, None, 0);
+    let t = Table::new().null_reach(1, crate::common::gave_up());
+    let sol = solve(&scn, &t);
+    let err = sol.outcome.as_ref().unwrap_err();
+    let text = err.reason();
+    assert_eq!(
+        text,
+        "no way to `r1 at [0.5, -0.5]` was found within the planning budget: no path for `r1` to the target \
+         configuration was found within the planning budget (`r1`: no path to it within 5000 samples)"
+    );
+    assert!(!text.contains("grasp"), "{text}");
     insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
 }
 
@@ -356,7 +414,6 @@ mod random {
 
     use super::common::{scenario, Table};
     use declutter::plan::andor::{solve, Item};
-    use declutter::plan::Unreachable;
 
     /// Per (robot, object): `None` = Null, `Some(mask)` = blocked by the objects in mask.
     fn table() -> impl Strategy<Value = (usize, usize, Vec<Option<u8>>)> {
@@ -454,7 +511,7 @@ mod random {
             for r in 0..robots {
                 for o in 0..objects {
                     t = match cells[r * objects + o] {
-                        None => t.null(r as u32 + 1, o as u32, Unreachable::NoPath),
+                        None => t.null(r as u32 + 1, o as u32, crate::common::gave_up()),
                         Some(mask) => {
                             let so: Vec<u32> = (0..objects as u32).filter(|k| mask & (1 << k) != 0 && *k as usize != o).collect();
                             t.path(r as u32 + 1, o as u32, &so)
@@ -508,7 +565,7 @@ fn wide_and_is_spread_over_three_robots() {
     // The target needs twelve objects gone, each free for every robot.
     let (scn, _) = scenario(3, 13, Some(0), 0);
     let all: Vec<u32> = (1..13).collect();
-    let mut t = Table::new().path(1, 0, &all).null(2, 0, Unreachable::NoPath).null(3, 0, Unreachable::NoPath);
+    let mut t = Table::new().path(1, 0, &all).null(2, 0, crate::common::gave_up()).null(3, 0, crate::common::gave_up());
     for o in 1..13 {
         t = t.path(1, o, &[]).path(2, o, &[]).path(3, o, &[]);
     }

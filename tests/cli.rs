@@ -116,6 +116,42 @@ fn compile_of_an_infeasible_scenario_exits_2_with_the_reason() {
     assert!(stderr(&o).contains("violation: schedule: the schedule is not solved"), "{}", stderr(&o));
 }
 
+/// The time a query took, which varies from run to run, as `[time]`; help text joined
+/// onto one line, so the width of the time cannot move its line breaks.
+fn mask_time(text: &str) -> String {
+    let joined = text.replace("\n        ", " ");
+    let mut out = String::new();
+    let mut rest = joined.as_str();
+    while let Some(i) = rest.find(" samples in ") {
+        let (head, tail) = rest.split_at(i + " samples in ".len());
+        out.push_str(head);
+        out.push_str("[time]");
+        rest = &tail[tail.find(';').unwrap_or(tail.len())..];
+    }
+    out.push_str(rest);
+    out
+}
+
+#[test]
+fn a_proof_and_a_budget_give_up_exit_2_with_distinct_codes() {
+    // Proved: the target configuration puts a link in the table, and the message says which.
+    let o = run(&["compile", "tests/fixtures/plan/config_in_table.dcl", "--out", "/dev/null"]);
+    assert_eq!(code(&o), 2);
+    let proof = stderr(&o);
+    assert!(proof.starts_with("declutter::plan::infeasible\n"), "{proof}");
+    assert!(!proof.contains("grasp"), "a configuration target's message speaks of the configuration: {proof}");
+    insta::assert_snapshot!("compile_config_in_table_stderr", proof);
+    // Not found within two samples: its own code, the figures, and the setting to raise.
+    let o = run(&["compile", "tests/fixtures/plan/gave_up.dcl", "--out", "/dev/null"]);
+    assert_eq!(code(&o), 2);
+    let gave_up = stderr(&o);
+    assert!(gave_up.starts_with("declutter::plan::gave_up\n"), "{gave_up}");
+    assert!(gave_up.contains("declutter::plan::budget_exhausted"), "{gave_up}");
+    assert!(gave_up.contains("raise `max_samples`"), "{gave_up}");
+    assert!(!gave_up.contains("grasp"), "{gave_up}");
+    insta::assert_snapshot!("compile_gave_up_stderr", mask_time(&gave_up));
+}
+
 #[test]
 fn compile_input_errors_exit_1_and_write_nothing() {
     let dir = TempDir::new("input-error");

@@ -5,8 +5,8 @@ mod common;
 
 use common::planar::{cell_of, grid_min_removals, label_grid, random_world, Planar, Rect};
 use declutter::plan::{Goal, Mode, PrmOptions, RobotPlanner, Space, Unreachable};
-use declutter::resolve::{ObjectId, Objective, PlannerSettings};
-use declutter::world::{Check, JointPath, ObjectSet};
+use declutter::resolve::{FixedId, ObjectId, Objective, PlannerSettings};
+use declutter::world::{Blocker, Check, JointPath, ObjectSet};
 
 fn set(ids: &[u32]) -> ObjectSet {
     ids.iter().map(|&i| ObjectId(i)).collect()
@@ -88,7 +88,15 @@ fn grasp_queries_label_the_whole_motion() {
     // No grasps at all.
     assert_eq!(p.query(&Goal::Grasp(ObjectId(2))).result, Err(Unreachable::NoGraspSolution));
     // A target configuration inside the wall.
-    assert_eq!(p.query(&Goal::Reach(vec![1.57, 0.0, 0.0].into())).result, Err(Unreachable::GoalBlocked));
+    // The proof names the body (and the link that hits it).
+    let inside = p.query(&Goal::Reach(vec![1.57, 0.0, 0.0].into())).result;
+    assert!(
+        matches!(&inside, Err(Unreachable::GoalBlocked(Blocker::Fixed { body: FixedId(0), link })) if link.starts_with("link")),
+        "{inside:?}"
+    );
+    // Outside the limits: the joint is named.
+    let beyond = p.query(&Goal::Reach(vec![0.0, 3.5, 0.0].into())).result;
+    assert_eq!(beyond, Err(Unreachable::GoalBlocked(Blocker::JointLimit { joint: "j1".into(), value: 3.5 })));
 }
 
 #[test]
@@ -253,4 +261,81 @@ fn stop_rules_first_path_max_samples_time_budget_and_patience() {
     let none = PlannerSettings { max_samples: 0, ..capped };
     let d = RobotPlanner::new(w, &none, &PrmOptions::default(), 0).query(&goal);
     assert_eq!(d.stats.samples, 0);
+}
+
+/// A point in the unit square among axis-aligned boxes (labels by containment): the
+/// planner's whole stack on geometry whose answers are known by hand.
+struct Points {
+    objects: Vec<Rect>,
+    fixed: Vec<Rect>,
+    limits: Vec<(f64, f64)>,
+    home: Vec<f64>,
+}
+
+impl Points {
+    fn inside(r: &Rect, q: &[f64]) -> bool {
+        (q[0] - r.c[0]).abs() <= r.h[0] && (q[1] - r.c[1]).abs() <= r.h[1]
+    }
+}
+
+impl Space for Points {
+    fn dof(&self) -> usize {
+        2
+    }
+    fn limits(&self) -> &[(f64, f64)] {
+        &self.limits
+    }
+    fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check {
+        *checks += 1;
+        if let Some(f) = self.fixed.iter().position(|f| Points::inside(f, q)) {
+            return Check::Blocked(Blocker::Fixed { body: FixedId(f as u32), link: "point".into() });
+        }
+        let ids = (0..self.objects.len() as u32).map(ObjectId);
+        Check::Touches(
+            ids.filter(|o| !mode.absent.contains(*o) && Points::inside(&self.objects[o.index()], q)).collect(),
+        )
+    }
+    fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+        let n = ((a[0] - b[0]).abs().max((a[1] - b[1]).abs()) / step).ceil().max(1.0) as usize;
+        (0..=n).fold(Check::free(), |acc, i| {
+            let t = i as f64 / n as f64;
+            acc.and(self.check(&[a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], mode, checks))
+        })
+    }
+    fn home(&self) -> &[f64] {
+        &self.home
+    }
+    fn drop_config(&self) -> &[f64] {
+        &self.home
+    }
+    fn grasps(&self, _: ObjectId) -> Vec<declutter::world::GraspConfig> {
+        Vec::new()
+    }
+    fn held(&self, o: ObjectId, _: &[f64]) -> declutter::world::Held {
+        declutter::world::Held { object: o, pose_flange_object: nalgebra::Isometry3::identity() }
+    }
+}
+
+#[test]
+fn exact_minimum_among_150_removable_objects() {
+    // A wall across the square with two gaps: the upper one holds objects 0 and 1 side
+    // by side, the lower one objects 147, 148 and 149; the other 145 lie outside the
+    // square. The minimum is {0, 1}: a search that let the ids from 127 up share one
+    // bit would count the lower gap as one object and pick it.
+    let wall =
+        vec![Rect::aabb(0.5, 0.05, 0.05, 0.05), Rect::aabb(0.5, 0.5, 0.05, 0.2), Rect::aabb(0.5, 0.95, 0.05, 0.05)];
+    // Each object overlaps its neighbours and the wall a little: no seam to slip through.
+    let mut objects = vec![Rect::aabb(0.475, 0.8, 0.027, 0.11), Rect::aabb(0.525, 0.8, 0.027, 0.11)];
+    objects.extend((2..147).map(|i| Rect::aabb(2.0 + i as f64, 0.0, 0.01, 0.01)));
+    objects.extend([0.4667, 0.5, 0.5333].map(|x| Rect::aabb(x, 0.2, 0.019, 0.11)));
+    assert_eq!(objects.len(), 150);
+    let w = Points { objects, fixed: wall, limits: vec![(0.0, 1.0); 2], home: vec![0.1, 0.5] };
+    let mut c = 0;
+    let across = |y: f64, c: &mut u64| w.check_segment(&[0.4, y], &[0.6, y], 0.001, &Mode::default(), c);
+    assert_eq!(across(0.8, &mut c), Check::Touches(set(&[0, 1])));
+    assert_eq!(across(0.2, &mut c), Check::Touches(set(&[147, 148, 149])));
+    let p = RobotPlanner::new(w, &PlannerSettings::default(), &PrmOptions::default(), 0);
+    let a = p.query(&Goal::Reach(vec![0.9, 0.5].into()));
+    let found = a.result.expect("either gap is a path once its objects are gone");
+    assert_eq!(found.removals, set(&[0, 1]), "{:?}", a.stats);
 }

@@ -1,5 +1,6 @@
 //! The driver runs the pipeline for each CLI command and turns errors into reports.
-//! Exit codes: 0 success, 1 input or usage error (or verification failure), 2 infeasible.
+//! Exit codes: 0 success, 1 input or usage error (or verification failure), 2 no schedule
+//! (proved infeasible, or not found within the planning budget: the diagnostic codes differ).
 
 use std::path::PathBuf;
 

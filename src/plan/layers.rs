@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use super::knn::dist2;
 use super::roadmap::Roadmap;
-use super::search::{mask, Found, Graph, Lab};
+use super::search::{mask, Found, Lab, LabelGraph, Mask};
 use super::space::Mode;
 use crate::resolve::ObjectId;
 use crate::world::{GraspConfig, Held, ObjectSet};
@@ -24,9 +24,10 @@ pub(super) enum ModeKey {
     Carry(ObjectId, u32),
 }
 
-/// Anything that gets a label.
+/// Anything that gets a label (the key of the label store; the AND/OR graph's
+/// `andor::Item` is a different thing, an object or the target configuration).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(super) enum Item {
+pub(super) enum LabelKey {
     Vertex(ModeKey, Node),
     /// Nodes in increasing order.
     Edge(ModeKey, Node, Node),
@@ -38,6 +39,17 @@ pub(super) struct GoalNode {
     pub(super) q: Vec<f64>,
     /// Cumulative neighbours at round r (index r).
     pub(super) nbrs: Vec<Vec<u32>>,
+    /// The tree grown from this goal (see `RobotPlanner::grow_tree`): (node, parent,
+    /// round added), in growth order; its nodes are goal nodes of their own.
+    pub(super) tree: Vec<(u32, u32, usize)>,
+    /// Rounds the tree has been grown for.
+    pub(super) tree_rounds: usize,
+}
+
+impl GoalNode {
+    pub(super) fn new(q: &[f64]) -> GoalNode {
+        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0 }
+    }
 }
 
 pub(super) type Carried = (Held, Vec<f64>, Vec<f64>);
@@ -48,9 +60,9 @@ pub(super) struct State {
     pub(super) goal_ids: HashMap<Vec<u64>, u32>,
     /// Empty-hand labels of roadmap edges, by edge index (`None`: not checked yet).
     pub(super) map_edges: Vec<Option<Option<ObjectSet>>>,
-    pub(super) labels: HashMap<Item, Option<ObjectSet>>,
+    pub(super) labels: HashMap<LabelKey, Option<ObjectSet>>,
     /// Segment items whose stored label comes from the certifying (fine) check.
-    pub(super) certified: std::collections::HashSet<Item>,
+    pub(super) certified: std::collections::HashSet<LabelKey>,
     /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
     pub(super) helds: HashMap<(ObjectId, u32), Carried>,
     /// `selectGrasps` answers, computed once per object (IK is not cheap).
@@ -79,7 +91,7 @@ impl Rule {
             Rule::Plain => mask(s),
             Rule::Forbid(o) if s.contains(o) => return Lab::Blocked,
             Rule::Forbid(_) => mask(s),
-            Rule::Strip(o) => mask(s) & !(1 << o.index().min(127)),
+            Rule::Strip(o) => mask(s).without(o),
         };
         if unknown {
             Lab::Unknown(s)
@@ -91,11 +103,11 @@ impl Rule {
 
 /// A layered search graph for one goal at one round, with the key of every element.
 pub(super) struct Built {
-    pub(super) g: Graph,
-    pub(super) vkey: Vec<Item>,
+    pub(super) g: LabelGraph,
+    pub(super) vkey: Vec<LabelKey>,
     pub(super) vrule: Vec<Rule>,
     /// `None` for elements whose label was final at build time.
-    pub(super) ekey: Vec<Option<Item>>,
+    pub(super) ekey: Vec<Option<LabelKey>>,
     pub(super) erule: Vec<Rule>,
     /// Layer of each vertex and its node.
     pub(super) vnode: Vec<(u8, Node)>,
@@ -119,7 +131,7 @@ pub(super) struct GraspGoal {
 
 /// A configuration-level job for the workers.
 pub(super) struct Job {
-    pub(super) item: Item,
+    pub(super) item: LabelKey,
     pub(super) a: Vec<f64>,
     pub(super) b: Option<Vec<f64>>,
     pub(super) mode: Mode,
@@ -160,10 +172,10 @@ pub(super) fn node_q(s: &State, n: Node) -> &[f64] {
 }
 
 /// The stored label of an item, if checked.
-pub(super) fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
+pub(super) fn lookup(s: &State, it: LabelKey) -> Option<Option<ObjectSet>> {
     match it {
-        Item::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
-        Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
+        LabelKey::Vertex(ModeKey::Empty, Node::Map(v)) => Some(Some(s.map.vlab[v as usize].clone())),
+        LabelKey::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) => {
             let e = map_edge(s, a, b)?;
             s.map_edges[e].clone()
         }
@@ -171,8 +183,8 @@ pub(super) fn lookup(s: &State, it: Item) -> Option<Option<ObjectSet>> {
     }
 }
 
-pub(super) fn store(s: &mut State, it: Item, l: Option<ObjectSet>) {
-    if let Item::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
+pub(super) fn store(s: &mut State, it: LabelKey, l: Option<ObjectSet>) {
+    if let LabelKey::Edge(ModeKey::Empty, Node::Map(a), Node::Map(b)) = it {
         if let Some(e) = map_edge(s, a, b) {
             s.map_edges[e] = Some(l);
             return;
@@ -197,23 +209,23 @@ pub(super) fn mode_of(s: &State, m: ModeKey) -> Mode {
     }
 }
 
-pub(super) fn job(s: &State, it: Item) -> Job {
+pub(super) fn job(s: &State, it: LabelKey) -> Job {
     match it {
-        Item::Vertex(m, n) => {
+        LabelKey::Vertex(m, n) => {
             Job { item: it, a: node_q(s, n).to_vec(), b: None, mode: mode_of(s, m), grasp: None, empty: None }
         }
-        Item::Edge(m, a, b) => Job {
+        LabelKey::Edge(m, a, b) => Job {
             item: it,
             a: node_q(s, a).to_vec(),
             b: Some(node_q(s, b).to_vec()),
             mode: mode_of(s, m),
             grasp: None,
             empty: match m {
-                ModeKey::Carry(..) => lookup(s, Item::Edge(ModeKey::Empty, a, b)),
+                ModeKey::Carry(..) => lookup(s, LabelKey::Edge(ModeKey::Empty, a, b)),
                 ModeKey::Empty => None,
             },
         },
-        Item::Approach(o, g) => {
+        LabelKey::Approach(o, g) => {
             let (held, q_grasp, q_pre) = s.helds[&(o, g)].clone();
             Job {
                 item: it,
@@ -233,6 +245,7 @@ pub(super) fn goal_nbrs(s: &mut State, id: u32, r: usize, k: usize) -> Vec<u32> 
     while g.nbrs.len() <= r {
         let rr = g.nbrs.len();
         let mut n: Vec<u32> = if rr == 0 { Vec::new() } else { g.nbrs[rr - 1].clone() };
+        let k = super::roadmap::neighbours(k, s.map.dof, s.map.rounds[rr].verts);
         n.extend(s.map.trees[rr].nearest(&g.q, k, |_| false).into_iter().map(|(_, i)| i));
         n.sort_unstable();
         n.dedup();
@@ -250,7 +263,7 @@ pub(super) fn build(
     object: Option<ObjectId>,
     goal: &GraspGoal,
     drop: Option<Node>,
-    bound: u32,
+    (bound, trees): (u32, bool),
 ) -> Built {
     use ModeKey::{Carry, Empty};
     let pre = goal.pre;
@@ -270,6 +283,16 @@ pub(super) fn build(
             }
         }
     }
+    // The goal's tree (up to round r) joins every layer the goal is in.
+    let tree: Vec<(u32, u32)> = match trees {
+        true => s.goals[pre as usize].tree.iter().filter(|t| t.2 <= r).map(|t| (t.0, t.1)).collect(),
+        false => Vec::new(),
+    };
+    for (_, _, extras) in layers.iter_mut() {
+        if extras.contains(&pre) {
+            extras.extend(tree.iter().map(|t| t.0));
+        }
+    }
     let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
     for (_, _, extras) in &layers {
         for &x in extras {
@@ -282,7 +305,7 @@ pub(super) fn build(
     let n = s.map.rounds[r].verts as u32;
     let m = s.map.rounds[r].edges;
     let mut b = Built {
-        g: Graph::default(),
+        g: LabelGraph::default(),
         vkey: Vec::new(),
         vrule: Vec::new(),
         ekey: Vec::new(),
@@ -306,17 +329,17 @@ pub(super) fn build(
         };
         let nodes = (0..n).map(Node::Map).chain(extras.iter().map(|&x| Node::Goal(x)));
         for node in nodes {
-            let item = Item::Vertex(mode, node);
+            let item = LabelKey::Vertex(mode, node);
             let lab = match (mode, node) {
                 (Empty, Node::Map(v)) => rule.known(Some(&s.map.vlab[v as usize])),
                 _ => match lookup(s, item) {
                     Some(l) => rule.known(l.as_ref()),
                     None => {
                         // Carrying: the arm's own contacts stay, the object's are unknown.
-                        let empty = lookup(s, Item::Vertex(Empty, node)).flatten();
+                        let empty = lookup(s, LabelKey::Vertex(Empty, node)).flatten();
                         match empty {
                             Some(l) => rule.bound(Some(&strip(&l))),
-                            None => Lab::Unknown(0),
+                            None => Lab::Unknown(Mask::default()),
                         }
                     }
                 },
@@ -328,16 +351,16 @@ pub(super) fn build(
         }
         let add_edge =
             |b: &mut Built, la: u32, lb: u32, na: Node, nb: Node, len: f64, known: Option<Option<ObjectSet>>| {
-                let item = Item::Edge(mode, na.min(nb), na.max(nb));
+                let item = LabelKey::Edge(mode, na.min(nb), na.max(nb));
                 let lab = match known {
                     Some(l) => rule.known(l.as_ref()),
                     None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
                         (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
-                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x | y),
+                        (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x.union(y)),
                     },
                 };
                 // Edges no answer better than `bound` can use are left out of the graph.
-                if lab.bound().is_none_or(|m| m.count_ones() >= bound) {
+                if lab.bound().is_none_or(|m| m.count() >= bound) {
                     return;
                 }
                 b.g.add_edge(la, lb, len, lab);
@@ -348,7 +371,7 @@ pub(super) fn build(
             let (va, vb) = s.map.edges[e];
             let known = match mode {
                 Empty => s.map_edges[e].clone(),
-                Carry(..) => s.labels.get(&Item::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
+                Carry(..) => s.labels.get(&LabelKey::Edge(mode, Node::Map(va), Node::Map(vb))).cloned(),
             };
             add_edge(&mut b, off + va, off + vb, Node::Map(va), Node::Map(vb), s.map.elen[e], known);
         }
@@ -357,8 +380,17 @@ pub(super) fn build(
             let qx = &s.goals[x as usize].q;
             for &v in &nbrs[&x] {
                 let len = dist2(qx, s.map.q(v)).sqrt();
-                let known = lookup(s, Item::Edge(mode, Node::Map(v), Node::Goal(x)));
+                let known = lookup(s, LabelKey::Edge(mode, Node::Map(v), Node::Goal(x)));
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
+            }
+        }
+        if extras.contains(&pre) {
+            let at = |x: u32| off + n + extras.iter().position(|&y| y == x).expect("tree node in extras") as u32;
+            for &(c, p) in &tree {
+                let (nc, np) = (Node::Goal(c), Node::Goal(p));
+                let len = dist2(&s.goals[c as usize].q, &s.goals[p as usize].q).sqrt();
+                let known = lookup(s, LabelKey::Edge(mode, nc.min(np), nc.max(np)));
+                add_edge(&mut b, at(p), at(c), np, nc, len, known);
             }
         }
     }
@@ -382,7 +414,7 @@ pub(super) fn build(
             // The approach and retreat, labelled like an edge: coarsely first, certified
             // when a winning path uses it.
             let len = 2.0 * dist2(&goal.cfg.q_pregrasp, &goal.cfg.q_grasp).sqrt();
-            let item = Item::Approach(o, goal.key);
+            let item = LabelKey::Approach(o, goal.key);
             if let Some(Some(l)) = lookup(s, item) {
                 b.g.add_edge(local(0, Node::Goal(pre)), local(1, Node::Goal(pre)), len, Lab::Known(mask(&l)));
                 b.ekey.push(Some(item));

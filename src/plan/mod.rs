@@ -13,6 +13,7 @@
 
 mod knn;
 mod layers;
+mod mask;
 mod planner;
 mod prm;
 mod roadmap;
@@ -28,7 +29,7 @@ use serde::Serialize;
 pub mod andor;
 
 use crate::resolve::{ObjectId, RobotId};
-use crate::world::{Config, JointPath, ObjectSet};
+use crate::world::{Blocker, Config, JointPath, ObjectSet};
 
 /// What a query asks a robot to do.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,21 +40,44 @@ pub enum Goal {
     Reach(Config),
 }
 
-/// Why a robot cannot do a goal at all (the paper's Null flag).
+/// Why a robot cannot do a goal (the paper's Null flag): a proof that it cannot, with
+/// the cause where one is known, or [`Unreachable::BudgetExhausted`], which proves nothing.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Unreachable {
     /// No grasp of the object has an inverse-kinematics solution for this robot
     /// (or every solution collides with a fixed body).
     NoGraspSolution,
-    /// Grasp configurations exist, but every straight approach to them, or the retreat
-    /// carrying the object, hits a fixed body.
-    ApproachBlocked,
-    /// Grasps are reachable, but no roadmap path reaches any of them without hitting
-    /// something fixed, within the sampling budget.
-    NoPath,
-    /// The goal configuration itself is outside the limits or blocked by a fixed body.
-    GoalBlocked,
+    /// Grasp configurations exist, but every pre-grasp, straight approach or retreat
+    /// carrying the object hits something fixed: what the first hit of each grasp was
+    /// (one entry per distinct block, in grasp order).
+    ApproachBlocked { blockers: Vec<Blocker> },
+    /// The goal configuration itself is outside a joint's limits or hits something fixed.
+    GoalBlocked(Blocker),
+    /// Where carried objects are released (the drop configuration, or home) hits
+    /// something fixed.
+    DropBlocked(Blocker),
+    /// Not a proof: the roadmap grew to its budget without a path to any goal.
+    BudgetExhausted(Budget),
+}
+
+impl Unreachable {
+    /// Whether this is a proof that the goal cannot be done (whatever the budget).
+    pub fn is_proof(&self) -> bool {
+        !matches!(self, Unreachable::BudgetExhausted(_))
+    }
+}
+
+/// How far a query that found nothing went (deterministic figures only; the time
+/// spent is in the answer's [`QueryStats`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Budget {
+    /// Samples the robot's roadmap had drawn when the query gave up.
+    pub samples: u64,
+    /// The `max_samples` setting.
+    pub max_samples: u64,
+    /// Stopped by the `time_budget` setting before `max_samples` was reached.
+    pub timed_out: bool,
 }
 
 /// A found path and the removable objects it touches (the paper's P_ij and SO_ij).

@@ -53,6 +53,26 @@ pub(crate) struct Round {
     pub checks: u64,
 }
 
+/// The seed stream of the Gaussian companions of a round's samples.
+const NEAR_STREAM: u64 = 0x6e65_6172;
+/// Their step: a normal deviate times this fraction of each joint's range.
+const NEAR_SIGMA: f64 = 0.02;
+
+/// A standard normal deviate (Box-Muller), from two uniform draws.
+fn normal(rng: &mut ChaCha8Rng) -> f64 {
+    let u: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
+    let v: f64 = rng.random();
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+}
+
+/// Neighbours per vertex on a roadmap of `n` vertices: PRM*'s k = e (1 + 1/d) ln n,
+/// which keeps the roadmap connected as it grows, and never fewer than the setting.
+pub(crate) fn neighbours(setting: usize, dof: usize, n: usize) -> usize {
+    let d = dof.max(1) as f64;
+    let k = (std::f64::consts::E * (1.0 + 1.0 / d) * (n.max(2) as f64).ln()).ceil() as usize;
+    k.max(setting)
+}
+
 /// Sample-count schedule: round r (r >= 1) ends with `first << (r-1)` samples, capped.
 pub(crate) fn samples_at(round: usize, first: usize, max: usize) -> u64 {
     let n = (first as u64).saturating_mul(1u64 << (round - 1).min(40));
@@ -144,25 +164,46 @@ impl Snapshot {
                 cand.push(lo + u * (hi - lo));
             }
         }
-        let labelled: Vec<(Option<ObjectSet>, u64)> = cand
-            .par_chunks(dof.max(1))
-            .map(|q| {
-                let mut c = 0;
-                let l = match space.check(q, &Mode::default(), &mut c) {
-                    Check::Touches(l) => Some(l),
-                    Check::Blocked(_) => None,
-                };
-                (l, c)
+        // Narrow passages (Gaussian sampling): beside every uniform sample, a second one
+        // a short normal step away, from a stream of its own so the uniform samples stay
+        // those of the seed. The pair is kept when exactly one of the two hits something
+        // fixed: the free one then lies near an obstacle's surface, where gaps are.
+        let mut near_rng = ChaCha8Rng::seed_from_u64(mix(&[seed, index as u64, NEAR_STREAM]));
+        let near: Vec<f64> = cand
+            .chunks(dof.max(1))
+            .flat_map(|q| {
+                let step: Vec<f64> = (0..dof).map(|_| normal(&mut near_rng)).collect();
+                q.iter()
+                    .zip(limits)
+                    .zip(step)
+                    .map(|((v, (lo, hi)), z)| (v + z * NEAR_SIGMA * (hi - lo)).clamp(*lo, *hi))
+                    .collect::<Vec<_>>()
             })
             .collect();
+        let label = |q: &[f64]| {
+            let mut c = 0;
+            let l = match space.check(q, &Mode::default(), &mut c) {
+                Check::Touches(l) => Some(l),
+                Check::Blocked(_) => None,
+            };
+            (l, c)
+        };
+        let labelled: Vec<(Option<ObjectSet>, u64)> = cand.par_chunks(dof.max(1)).map(label).collect();
+        let near_labelled: Vec<(Option<ObjectSet>, u64)> = near.par_chunks(dof.max(1)).map(label).collect();
         let mut qs = Vec::new();
         let mut vlab = Vec::new();
         let mut checks = 0;
-        for (q, (l, c)) in cand.chunks(dof.max(1)).zip(labelled) {
-            checks += c;
+        let pairs = cand.chunks(dof.max(1)).zip(labelled).zip(near.chunks(dof.max(1)).zip(near_labelled));
+        for ((q, (l, c)), (qn, (ln, cn))) in pairs {
+            checks += c + cn;
+            let near_kept = l.is_none() && ln.is_some();
             if let Some(l) = l {
                 qs.extend_from_slice(q);
                 vlab.push(l);
+            }
+            if near_kept {
+                qs.extend_from_slice(qn);
+                vlab.push(ln.unwrap_or_default());
             }
         }
         let old = self.n;
@@ -170,6 +211,7 @@ impl Snapshot {
         all.extend_from_slice(&qs);
         let total = old + vlab.len();
         let tree = KdTree::build(dof, &all, total);
+        let k = neighbours(k, dof, total);
         let mut edges: Vec<(u32, u32)> = (old..total)
             .into_par_iter()
             .flat_map_iter(|i| {

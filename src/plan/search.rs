@@ -11,17 +11,10 @@ use std::collections::BinaryHeap;
 
 use crate::world::ObjectSet;
 
-/// A label set as the searches see it: bit i is object i. Objects with ids of 127 and
-/// above share bit 127, which can only make the search conservative for scenarios
-/// with more than 127 removable objects; reported sets are always the exact unions.
-pub(crate) type Mask = u128;
+pub(crate) use super::mask::Mask;
 
 pub(crate) fn mask(s: &ObjectSet) -> Mask {
-    s.iter().fold(0, |m, o| m | 1 << o.index().min(127))
-}
-
-fn subset(a: Mask, b: Mask) -> bool {
-    a & !b == 0
+    Mask::from_set(s)
 }
 
 /// The label of a vertex or an edge.
@@ -35,8 +28,8 @@ pub(crate) enum Lab {
 }
 
 impl Lab {
-    pub(crate) fn bound(&self) -> Option<Mask> {
-        match *self {
+    pub(crate) fn bound(&self) -> Option<&Mask> {
+        match self {
             Lab::Unknown(s) | Lab::Known(s) => Some(s),
             Lab::Blocked => None,
         }
@@ -46,9 +39,10 @@ impl Lab {
     }
 }
 
-/// An undirected graph with labelled vertices and edges.
+/// An undirected graph with labelled vertices and edges (what the searches run on;
+/// `andor::Graph` is the AND/OR precedence graph).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Graph {
+pub(crate) struct LabelGraph {
     /// Per vertex: (neighbour, edge).
     pub adj: Vec<Vec<(u32, u32)>>,
     pub vlab: Vec<Lab>,
@@ -56,7 +50,7 @@ pub(crate) struct Graph {
     pub elab: Vec<Lab>,
 }
 
-impl Graph {
+impl LabelGraph {
     pub(crate) fn add_vertex(&mut self, lab: Lab) -> u32 {
         self.adj.push(Vec::new());
         self.vlab.push(lab);
@@ -81,9 +75,10 @@ pub(crate) struct Found {
     pub len: f64,
 }
 
-/// A total order on f64 keys for the heaps (lengths are finite).
-#[derive(Clone, Copy, PartialEq)]
-struct Len(f64);
+/// A path length as a key: a total order on f64 (lengths are finite), for the heaps
+/// and for ranking candidates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Len(pub f64);
 impl Eq for Len {}
 impl PartialOrd for Len {
     fn partial_cmp(&self, o: &Len) -> Option<Ordering> {
@@ -107,21 +102,21 @@ impl Ord for Len {
 ///
 /// States with `bound` or more objects are dropped: the caller already holds an
 /// answer that small, so only strictly smaller sets are worth finding.
-pub(crate) fn fewest_removals(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Found> {
+pub(crate) fn fewest_removals(g: &LabelGraph, start: u32, goal: u32, bound: u32) -> Option<Found> {
     let best = smallest_set(g, start, goal, bound)?;
     shortest_within(g, start, goal, best)
 }
 
-fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
-    let start_set = g.vlab[start as usize].bound()?;
-    if start_set.count_ones() >= bound {
+fn smallest_set(g: &LabelGraph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
+    let start_set = g.vlab[start as usize].bound()?.clone();
+    if start_set.count() >= bound {
         return None;
     }
     // Per vertex: the sets it was reached with (an antichain), and whether each is live.
     let mut fronts: Vec<Vec<Mask>> = vec![Vec::new(); g.vlab.len()];
-    fronts[start as usize].push(start_set);
+    fronts[start as usize].push(start_set.clone());
     let mut heap = BinaryHeap::new();
-    heap.push(Reverse((start_set.count_ones(), Len(0.0), start, start_set)));
+    heap.push(Reverse((start_set.count(), Len(0.0), start, start_set)));
     while let Some(Reverse((_, Len(len), v, set))) = heap.pop() {
         if !fronts[v as usize].contains(&set) {
             continue;
@@ -133,17 +128,18 @@ fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
             let (Some(el), Some(wl)) = (g.elab[e as usize].bound(), g.vlab[w as usize].bound()) else {
                 continue;
             };
-            let s2 = set | el | wl;
-            if s2.count_ones() >= bound {
+            let s2 = set.union(el).union(wl);
+            let n2 = s2.count();
+            if n2 >= bound {
                 continue;
             }
             let front = &mut fronts[w as usize];
-            if front.iter().any(|&o| subset(o, s2)) {
+            if front.iter().any(|o| o.is_subset(&s2)) {
                 continue;
             }
-            front.retain(|&o| !subset(s2, o));
-            front.push(s2);
-            heap.push(Reverse((s2.count_ones(), Len(len + g.elen[e as usize]), w, s2)));
+            front.retain(|o| !s2.is_subset(o));
+            front.push(s2.clone());
+            heap.push(Reverse((n2, Len(len + g.elen[e as usize]), w, s2)));
         }
     }
     None
@@ -151,7 +147,7 @@ fn smallest_set(g: &Graph, start: u32, goal: u32, bound: u32) -> Option<Mask> {
 
 /// The path a search's `prev` links spell from `goal` back to `start`, with the union of
 /// the labels on it (the searches only walk unblocked elements).
-fn trace_back(g: &Graph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -> Found {
+fn trace_back(g: &LabelGraph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -> Found {
     let (mut verts, mut edges) = (vec![goal], Vec::new());
     let mut u = goal;
     while u != start {
@@ -164,13 +160,16 @@ fn trace_back(g: &Graph, prev: &[(u32, u32)], start: u32, goal: u32, len: f64) -
     edges.reverse();
     let vert_labels = verts.iter().map(|&x| &g.vlab[x as usize]);
     let edge_labels = edges.iter().map(|&e| &g.elab[e as usize]);
-    let set = vert_labels.chain(edge_labels).fold(0, |acc, l| acc | l.bound().unwrap_or(0));
+    let set = vert_labels.chain(edge_labels).fold(Mask::default(), |acc, l| match l.bound() {
+        Some(b) => acc.union(b),
+        None => acc,
+    });
     Found { verts, edges, set, len }
 }
 
 /// The shortest path through elements whose labels lie inside `within`.
-fn shortest_within(g: &Graph, start: u32, goal: u32, within: Mask) -> Option<Found> {
-    let ok = |l: &Lab| l.bound().is_some_and(|s| subset(s, within));
+fn shortest_within(g: &LabelGraph, start: u32, goal: u32, within: Mask) -> Option<Found> {
+    let ok = |l: &Lab| l.bound().is_some_and(|s| s.is_subset(&within));
     if !ok(&g.vlab[start as usize]) {
         return None;
     }
@@ -204,7 +203,7 @@ fn shortest_within(g: &Graph, start: u32, goal: u32, within: Mask) -> Option<Fou
 
 /// The paper's rule: the path with the fewest vertices (ties broken by length),
 /// ignoring labels except blocks; its set is the union of the labels on it.
-pub(crate) fn fewest_vertices(g: &Graph, start: u32, goal: u32) -> Option<Found> {
+pub(crate) fn fewest_vertices(g: &LabelGraph, start: u32, goal: u32) -> Option<Found> {
     g.vlab[start as usize].bound()?;
     let n = g.vlab.len();
     let mut best: Vec<(u32, f64)> = vec![(u32::MAX, f64::INFINITY); n];
@@ -244,19 +243,23 @@ mod tests {
         mask(&ids.iter().map(|&i| ObjectId(i)).collect())
     }
 
+    fn none() -> Mask {
+        Mask::default()
+    }
+
     /// start 0, goal 3. Short route 0-1-3 touches {0,1}; long route 0-2-4-3 touches {2};
     /// a blocked shortcut 0-3.
-    fn diamond() -> Graph {
-        let mut g = Graph::default();
+    fn diamond() -> LabelGraph {
+        let mut g = LabelGraph::default();
         for _ in 0..5 {
-            g.add_vertex(Lab::Known(0));
+            g.add_vertex(Lab::Known(none()));
         }
         g.add_edge(0, 3, 0.5, Lab::Blocked);
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
         g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
-        g.add_edge(0, 2, 1.0, Lab::Known(0));
+        g.add_edge(0, 2, 1.0, Lab::Known(none()));
         g.add_edge(2, 4, 1.0, Lab::Known(set(&[2])));
-        g.add_edge(4, 3, 1.0, Lab::Known(0));
+        g.add_edge(4, 3, 1.0, Lab::Known(none()));
         g
     }
 
@@ -274,9 +277,9 @@ mod tests {
     #[test]
     fn mcr_counts_repeated_labels_once() {
         // Route A touches {5} on three edges; route B touches {6} then {7}.
-        let mut g = Graph::default();
+        let mut g = LabelGraph::default();
         for _ in 0..6 {
-            g.add_vertex(Lab::Known(0));
+            g.add_vertex(Lab::Known(none()));
         }
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[5])));
         g.add_edge(1, 2, 1.0, Lab::Known(set(&[5])));
@@ -293,13 +296,13 @@ mod tests {
         // Vertex 1 is reached cheaply with {0} and expensively with {1}; only {1}
         // combines with the last edge's {1} into a one-object answer. Pruning by
         // length alone would lose it.
-        let mut g = Graph::default();
+        let mut g = LabelGraph::default();
         for _ in 0..4 {
-            g.add_vertex(Lab::Known(0));
+            g.add_vertex(Lab::Known(none()));
         }
         g.add_edge(0, 1, 1.0, Lab::Known(set(&[0])));
         g.add_edge(0, 2, 1.0, Lab::Known(set(&[1])));
-        g.add_edge(2, 1, 5.0, Lab::Known(0));
+        g.add_edge(2, 1, 5.0, Lab::Known(none()));
         g.add_edge(1, 3, 1.0, Lab::Known(set(&[1])));
         let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
         assert_eq!(f.set, set(&[1]));
@@ -314,15 +317,15 @@ mod tests {
 
     #[test]
     fn vertex_labels_count_and_blocked_vertices_are_avoided() {
-        let mut g = Graph::default();
-        g.add_vertex(Lab::Known(0));
+        let mut g = LabelGraph::default();
+        g.add_vertex(Lab::Known(none()));
         g.add_vertex(Lab::Blocked);
         g.add_vertex(Lab::Known(set(&[3])));
-        g.add_vertex(Lab::Known(0));
-        g.add_edge(0, 1, 1.0, Lab::Known(0));
-        g.add_edge(1, 3, 1.0, Lab::Known(0));
-        g.add_edge(0, 2, 1.0, Lab::Known(0));
-        g.add_edge(2, 3, 1.0, Lab::Known(0));
+        g.add_vertex(Lab::Known(none()));
+        g.add_edge(0, 1, 1.0, Lab::Known(none()));
+        g.add_edge(1, 3, 1.0, Lab::Known(none()));
+        g.add_edge(0, 2, 1.0, Lab::Known(none()));
+        g.add_edge(2, 3, 1.0, Lab::Known(none()));
         let f = fewest_removals(&g, 0, 3, u32::MAX).unwrap();
         assert_eq!(f.set, set(&[3]));
         assert_eq!(fewest_vertices(&g, 0, 3).unwrap().verts, vec![0, 2, 3]);
@@ -342,12 +345,12 @@ mod tests {
         };
         for _ in 0..200 {
             let n = 8;
-            let mut g = Graph::default();
+            let mut g = LabelGraph::default();
             for _ in 0..n {
-                let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { 0 };
+                let l = if rnd(4) == 0 { set(&[rnd(5) as u32]) } else { none() };
                 g.add_vertex(Lab::Known(l));
             }
-            g.vlab[0] = Lab::Known(0);
+            g.vlab[0] = Lab::Known(none());
             for _ in 0..14 {
                 let (a, b) = (rnd(n) as u32, rnd(n) as u32);
                 if a == b {
@@ -356,18 +359,19 @@ mod tests {
                 let lab = match rnd(6) {
                     0 => Lab::Blocked,
                     1 | 2 => Lab::Known(set(&[rnd(5) as u32])),
-                    _ => Lab::Known(0),
+                    _ => Lab::Known(none()),
                 };
                 g.add_edge(a, b, 1.0 + rnd(3) as f64, lab);
             }
-            let mcr = fewest_removals(&g, 0, n as u32 - 1, u32::MAX).map(|f| f.set.count_ones() as usize);
+            let mcr = fewest_removals(&g, 0, n as u32 - 1, u32::MAX).map(|f| f.set.count() as usize);
             let brute = (0u32..32).filter(|m| path_within(&g, *m, n as u32 - 1)).map(|m| m.count_ones() as usize).min();
             assert_eq!(mcr, brute);
         }
     }
 
-    fn path_within(g: &Graph, mask: u32, goal: u32) -> bool {
-        let ok = |l: &Lab| l.bound().is_some_and(|s| s & !(mask as Mask) == 0);
+    fn path_within(g: &LabelGraph, mask: u32, goal: u32) -> bool {
+        let within: Mask = (0..32).filter(|i| mask & (1 << i) != 0).map(ObjectId).collect();
+        let ok = |l: &Lab| l.bound().is_some_and(|s| s.is_subset(&within));
         let mut seen = vec![false; g.vlab.len()];
         let mut stack = vec![0u32];
         if !ok(&g.vlab[0]) {

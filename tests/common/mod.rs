@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use declutter::diag::{SourceMap, Span};
-use declutter::plan::{Answer, FoundPath, Goal, Oracle, QueryStats, Unreachable};
+use declutter::plan::{Answer, Budget, FoundPath, Goal, Oracle, QueryStats, Unreachable};
 use declutter::resolve::{
     Body, FileRef, Grasp, JointValues, Object, ObjectId, PlannerSettings, Pose, Robot, RobotId, Scenario, Target,
 };
@@ -163,6 +163,11 @@ impl Oracle for Table {
         });
         Answer { result, stats }
     }
+}
+
+/// A query that stopped at the default sampling budget without a path (not a proof).
+pub fn gave_up() -> Unreachable {
+    Unreachable::BudgetExhausted(Budget { samples: 5000, max_samples: 5000, timed_out: false })
 }
 
 /// Figure 2, with O5 free for both robots (Figure 3's solution).

@@ -3,52 +3,87 @@
 
 use std::collections::BTreeSet;
 
-use miette::LabeledSpan;
+use std::fmt::Display;
+
+use miette::{Diagnostic, LabeledSpan};
 
 use crate::diag::{Located, Span};
-use crate::plan::Unreachable;
-use crate::resolve::{ObjectId, RobotId, Scenario, Target};
+use crate::plan::{Answer, Budget, Unreachable};
+use crate::resolve::{FixedId, ObjectId, RobotId, Scenario, Target};
+use crate::world::Blocker;
 
 use super::graph::{Flag, Graph, Item};
 
-/// The target cannot be reached: every branch of G ends in one of the `causes`.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, miette::Diagnostic)]
-#[error("`{target}` cannot be reached")]
-#[diagnostic(
-    code(declutter::plan::infeasible),
-    help("every way to the target was explored; the notes below say where each one ends")
-)]
+/// No schedule: either a proof that the target cannot be reached (every branch of G
+/// ends in a proved dead end), or the planner gave up within its budget on some branch
+/// (then a bigger budget may find one). The two have distinct codes:
+/// `declutter::plan::infeasible` and `declutter::plan::gave_up`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{}", self.headline())]
 pub struct Infeasible {
     /// The target object's name, or `ROBOT at [...]` for a configuration target.
     pub target: String,
-    #[label("the target")]
     pub span: Span,
-    #[related]
     pub causes: Vec<Cause>,
+}
+
+impl Diagnostic for Infeasible {
+    fn code<'a>(&'a self) -> Option<Box<dyn Display + 'a>> {
+        Some(Box::new(if self.is_proof() { "declutter::plan::infeasible" } else { "declutter::plan::gave_up" }))
+    }
+    fn help<'a>(&'a self) -> Option<Box<dyn Display + 'a>> {
+        Some(Box::new(if self.is_proof() {
+            "every way to the target was explored; the notes below say where each one ends"
+        } else {
+            "this is not a proof that no schedule exists: the planner stopped at its budget; the notes below say where"
+        }))
+    }
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(Some("the target".into()), self.span))))
+    }
+    fn related<'a>(&'a self) -> Option<Box<dyn Iterator<Item = &'a dyn Diagnostic> + 'a>> {
+        Some(Box::new(self.causes.iter().map(|c| c as &dyn Diagnostic)))
+    }
 }
 
 /// One dead end of G.
 #[derive(Clone, Debug, PartialEq, thiserror::Error, miette::Diagnostic)]
 pub enum Cause {
-    /// Every robot's flag is Null for this object.
+    /// Every robot's flag is Null for this object, each with a proof.
     #[error("no robot can grasp `{name}` ({})", why(reasons))]
     #[diagnostic(code(declutter::plan::ungraspable))]
     Ungraspable {
         object: ObjectId,
         name: String,
         /// Robot name and why it cannot, per robot.
-        reasons: Vec<(String, Unreachable)>,
+        reasons: Vec<(String, Reason)>,
         #[label("`{name}` is declared here")]
         span: Span,
     },
     /// The robot of a configuration target cannot reach it whatever is removed.
-    #[error("`{robot}` cannot reach the target configuration ({})", describe(reason))]
+    #[error("`{robot}` cannot reach the target configuration: {}", reason.text)]
     #[diagnostic(code(declutter::plan::unreachable_target))]
     TargetUnreachable {
         robot: String,
-        reason: Unreachable,
+        reason: Reason,
         #[label("this configuration")]
         span: Span,
+    },
+    /// No robot found a way to `what` (grasping an object, or reaching the target
+    /// configuration), and at least one gave up at its sampling budget.
+    #[error("no path {what} was found within the planning budget ({})", why(reasons))]
+    #[diagnostic(code(declutter::plan::budget_exhausted))]
+    NotFound {
+        /// `to grasp `can`` or `for `r1` to the target configuration`.
+        what: String,
+        reasons: Vec<(String, Reason)>,
+        #[label("{label}")]
+        span: Span,
+        label: String,
+        /// The figures and the setting to raise; holds the time spent, so it is only
+        /// rendered, never written into a schedule.
+        #[help]
+        advice: String,
     },
     /// Removing the first object needs the second removed first, and so on, until the
     /// last needs the first: no order can work.
@@ -68,6 +103,14 @@ pub enum Cause {
     },
 }
 
+/// One robot's [`Unreachable`] in scenario terms: the flag and its text (bodies, links
+/// and joints by name; grasps only for an object).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reason {
+    pub why: Unreachable,
+    pub text: String,
+}
+
 impl Located for Infeasible {
     fn primary_span(&self) -> Option<Span> {
         Some(self.span)
@@ -79,25 +122,92 @@ impl Infeasible {
     pub fn reason(&self) -> String {
         format!("{self}: {}", summary(&self.causes))
     }
-}
 
-/// A short description of an [`Unreachable`], for messages.
-pub fn describe(u: &Unreachable) -> &'static str {
-    match u {
-        Unreachable::NoGraspSolution => "no grasp has an inverse-kinematics solution clear of fixed bodies",
-        Unreachable::ApproachBlocked => {
-            "its grasps are reachable, but every straight approach or retreat carrying it hits something fixed"
+    /// Whether every dead end is proved; false when some branch only ran out of budget.
+    pub fn is_proof(&self) -> bool {
+        !self.causes.iter().any(|c| matches!(c, Cause::NotFound { .. }))
+    }
+
+    fn headline(&self) -> String {
+        if self.is_proof() {
+            format!("`{}` cannot be reached", self.target)
+        } else {
+            format!("no way to `{}` was found within the planning budget", self.target)
         }
-        Unreachable::NoPath => "every path to a grasp hits something fixed",
-        Unreachable::GoalBlocked => "the configuration is outside the joint limits or hits something fixed",
     }
 }
 
-fn why(reasons: &[(String, Unreachable)]) -> String {
+/// What a goal is, for messages: an object is grasped, a configuration reached.
+#[derive(Clone, Copy)]
+enum Aim {
+    Object,
+    Config,
+}
+
+/// A one-line description of an [`Unreachable`], naming bodies, links and joints.
+pub fn describe(scn: &Scenario, u: &Unreachable) -> String {
+    describe_for(scn, u, Aim::Object)
+}
+
+fn describe_for(scn: &Scenario, u: &Unreachable, aim: Aim) -> String {
+    match (u, aim) {
+        (Unreachable::NoGraspSolution, _) => "no grasp has an inverse-kinematics solution clear of fixed bodies".into(),
+        (Unreachable::ApproachBlocked { blockers }, _) if blockers.is_empty() => {
+            "every grasp's pre-grasp touches the object itself".into()
+        }
+        (Unreachable::ApproachBlocked { blockers }, _) => {
+            let hits: Vec<String> = blockers.iter().map(|b| blocker(scn, b)).collect();
+            format!(
+                "its grasps are reachable, but every approach or retreat carrying it is blocked: {}",
+                hits.join(", ")
+            )
+        }
+        (Unreachable::GoalBlocked(Blocker::JointLimit { joint, value }), _) => {
+            format!("it is outside the limits of joint `{joint}` ({value:.4} rad)")
+        }
+        (Unreachable::GoalBlocked(b), Aim::Config) => format!("at that configuration, {}", blocker(scn, b)),
+        (Unreachable::GoalBlocked(b), Aim::Object) => format!("the goal configuration is blocked: {}", blocker(scn, b)),
+        (Unreachable::DropBlocked(b), _) => format!("where it releases objects, {}", blocker(scn, b)),
+        (Unreachable::BudgetExhausted(b), aim) => {
+            let to = match aim {
+                Aim::Object => "a grasp",
+                Aim::Config => "it",
+            };
+            if b.timed_out {
+                format!("no path to {to} within `time_budget` ({} samples drawn)", b.samples)
+            } else {
+                format!("no path to {to} within {} samples", b.samples)
+            }
+        }
+    }
+}
+
+/// A block in scenario terms: which link or carried object hits which body.
+fn blocker(scn: &Scenario, b: &Blocker) -> String {
+    let fixed = |f: &FixedId| scn.fixed.get(f.index()).map_or_else(|| format!("#{}", f.0), |f| f.name.clone());
+    let object = |o: &ObjectId| scn.object(*o).body.name.clone();
+    match b {
+        Blocker::Fixed { body, link } => format!("link `{link}` hits fixed body `{}`", fixed(body)),
+        Blocker::HeldFixed { object: o, body } => {
+            format!("carried `{}` hits fixed body `{}`", object(o), fixed(body))
+        }
+        Blocker::Robot { other, link, other_link } => {
+            format!("link `{link}` hits link `{other_link}` of robot `{}` at its home", scn.robot(*other).name)
+        }
+        Blocker::HeldRobot { object: o, other, other_link } => {
+            format!("carried `{}` hits link `{other_link}` of robot `{}`", object(o), scn.robot(*other).name)
+        }
+        Blocker::SelfCollision { link_a, link_b } => format!("links `{link_a}` and `{link_b}` collide"),
+        Blocker::HeldSelf { object: o, link } => format!("carried `{}` hits link `{link}`", object(o)),
+        Blocker::JointLimit { joint, value } => format!("joint `{joint}` = {value:.4} rad is outside its limits"),
+    }
+}
+
+fn why(reasons: &[(String, Reason)]) -> String {
     if reasons.is_empty() {
         return "the scenario declares no robot".to_string();
     }
-    reasons.iter().map(|(r, u)| format!("`{r}`: {}", describe(u))).collect::<Vec<_>>().join("; ")
+    reasons.iter().map(|(r, u)| format!("`{r}`: {}", u.text)).collect::<Vec<_>>().join("; ")
 }
 
 fn summary(causes: &[Cause]) -> String {
@@ -105,6 +215,27 @@ fn summary(causes: &[Cause]) -> String {
         return "no robot has a path to it".to_string();
     }
     causes.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
+}
+
+fn duration(ms: f64) -> String {
+    if ms < 1e3 {
+        format!("{ms:.1} ms")
+    } else {
+        format!("{:.2} s", ms / 1e3)
+    }
+}
+
+/// The figures of the robots that gave up, and the settings to raise.
+fn advice(scn: &Scenario, gave_up: &[(String, Budget, f64)]) -> String {
+    let figures: Vec<String> =
+        gave_up.iter().map(|(r, b, ms)| format!("`{r}` drew {} samples in {}", b.samples, duration(*ms))).collect();
+    let max = scn.planner.max_samples;
+    let raise = if gave_up.iter().any(|g| g.1.timed_out) {
+        format!("raise `time_budget` (or remove it) and `max_samples` (now {max}) in the `planner` block")
+    } else {
+        format!("raise `max_samples` in the `planner` block (now {max}; e.g. `max_samples {}`)", max.saturating_mul(4))
+    };
+    format!("{}; a path may exist: {raise}", figures.join(", "))
 }
 
 /// Collects the dead ends of a fully expanded G: nodes whose robots are all Null, and
@@ -126,28 +257,44 @@ pub fn explain(scn: &Scenario, graph: &Graph) -> Infeasible {
             continue;
         }
         if node.flags.iter().all(|(_, f)| *f == Flag::Null) && seen_null.insert(node.item) {
-            let reasons: Vec<(RobotId, Unreachable)> = node
-                .flags
-                .iter()
-                .filter_map(|(r, _)| match graph.answer(*r, node.item).map(|a| &a.result) {
-                    Some(Err(u)) => Some((*r, u.clone())),
-                    _ => None,
-                })
-                .collect();
+            let aim = match node.item {
+                Item::Object(_) => Aim::Object,
+                Item::Config => Aim::Config,
+            };
+            let mut gave_up = Vec::new();
+            let mut reasons = Vec::new();
+            for (r, _) in &node.flags {
+                let Some(Answer { result: Err(u), stats }) = graph.answer(*r, node.item) else { continue };
+                let robot = scn.robot(*r).name.clone();
+                if let Unreachable::BudgetExhausted(b) = u {
+                    gave_up.push((robot.clone(), *b, stats.time_ms));
+                }
+                reasons.push((robot, Reason { why: u.clone(), text: describe_for(scn, u, aim) }));
+            }
+            let not_found = |what: String, label: String, span: Span, reasons: Vec<(String, Reason)>| Cause::NotFound {
+                what,
+                reasons,
+                span,
+                label,
+                advice: advice(scn, &gave_up),
+            };
             match (node.item, &scn.target) {
-                (Item::Object(object), _) => causes.push(Cause::Ungraspable {
-                    object,
-                    name: scn.object(object).body.name.clone(),
-                    reasons: reasons.into_iter().map(|(r, u)| (scn.robot(r).name.clone(), u)).collect(),
-                    span: scn.object(object).body.span,
-                }),
+                (Item::Object(object), _) => {
+                    let name = scn.object(object).body.name.clone();
+                    let span = scn.object(object).body.span;
+                    causes.push(if gave_up.is_empty() {
+                        Cause::Ungraspable { object, name, reasons, span }
+                    } else {
+                        not_found(format!("to grasp `{name}`"), format!("`{name}` is declared here"), span, reasons)
+                    })
+                }
                 (Item::Config, Target::Config { robot, q, .. }) => {
-                    if let Some((_, reason)) = reasons.into_iter().next() {
-                        causes.push(Cause::TargetUnreachable {
-                            robot: scn.robot(*robot).name.clone(),
-                            reason,
-                            span: q.span,
-                        })
+                    let name = scn.robot(*robot).name.clone();
+                    if !gave_up.is_empty() {
+                        let what = format!("for `{name}` to the target configuration");
+                        causes.push(not_found(what, "this configuration".into(), q.span, reasons));
+                    } else if let Some((_, reason)) = reasons.into_iter().next() {
+                        causes.push(Cause::TargetUnreachable { robot: name, reason, span: q.span })
                     }
                 }
                 (Item::Config, Target::Object { .. }) => {}

@@ -17,7 +17,7 @@ mod infeasible;
 
 pub use assign::{Action, Plan, SEARCH_BUDGET};
 pub use graph::{Edge, Flag, Graph, Item, Node, Query};
-pub use infeasible::{describe, Cause, Infeasible};
+pub use infeasible::{describe, Cause, Infeasible, Reason};
 
 use crate::plan::Oracle;
 use crate::resolve::Scenario;

@@ -1,0 +1,224 @@
+//! The goals of a query: configuration goal nodes, the trees grown from them, the
+//! drop node, the usable grasps, and what blocks them when none is usable.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::super::knn::dist2;
+use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node};
+use super::super::roadmap::mix;
+use super::super::space::{Mode, Space};
+use super::RobotPlanner;
+use crate::resolve::ObjectId;
+use crate::world::{Blocker, Check, GraspConfig, ObjectSet};
+
+/// Tree growth per round: the first round's attempts, doubling, capped.
+const TREE_FIRST: usize = 8;
+const TREE_MAX: usize = 128;
+/// Longest step of a tree extension (radians, Euclidean in joint space).
+const TREE_STEP: f64 = 0.3;
+/// The seed stream of the goal trees.
+const TREE_STREAM: u64 = 0x7472_6565;
+
+impl<S: Space> RobotPlanner<S> {
+    /// The goal node for a configuration, created (and checked) on first use.
+    pub(super) fn goal_node(&self, q: &[f64], checks: &mut u64) -> (u32, Option<ObjectSet>) {
+        let key: Vec<u64> = q.iter().map(|v| v.to_bits()).collect();
+        let existing = self.lock(
+            |s| {
+                s.goal_ids
+                    .get(&key)
+                    .map(|&id| (id, s.labels.get(&LabelKey::Vertex(ModeKey::Empty, Node::Goal(id))).cloned()))
+            },
+            checks,
+        );
+        if let Some((id, Some(l))) = existing {
+            return (id, l);
+        }
+        let lab = match self.space.check(q, &Mode::default(), checks) {
+            Check::Touches(l) => Some(l),
+            Check::Blocked(_) => None,
+        };
+        let id = self.lock(
+            |s| {
+                let id = *s.goal_ids.entry(key).or_insert_with(|| {
+                    s.goals.push(GoalNode::new(q));
+                    (s.goals.len() - 1) as u32
+                });
+                s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), lab.clone());
+                id
+            },
+            checks,
+        );
+        (id, lab)
+    }
+
+    /// Grows the tree of goal node `root` through round `r`: an RRT from the goal whose
+    /// nodes join the search graphs beside it (each also linked to its nearest roadmap
+    /// vertices), so a goal inside a narrow place reaches out of it before the roadmap
+    /// is dense there. Round `rr` adds up to `TREE_FIRST << (rr - 1)` nodes (capped)
+    /// from an RNG seeded by (seed, goal, rr): the tree is a pure function of those,
+    /// whichever query grows it. Checked under the robot's lock, without rayon.
+    pub(super) fn grow_tree(&self, root: u32, r: usize, checks: &mut u64) {
+        let mut c = 0;
+        self.lock(
+            |s| {
+                let q_root = s.goals[root as usize].q.clone();
+                let key = mix(&q_root.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+                let lim = self.space.limits().to_vec();
+                while s.goals[root as usize].tree_rounds < r {
+                    let rr = s.goals[root as usize].tree_rounds + 1;
+                    let mut rng = ChaCha8Rng::seed_from_u64(mix(&[self.seed, TREE_STREAM, key, rr as u64]));
+                    let attempts = (TREE_FIRST << (rr - 1).min(16)).min(TREE_MAX);
+                    for _ in 0..attempts {
+                        let target: Vec<f64> =
+                            lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
+                        let nodes = std::iter::once(root).chain(s.goals[root as usize].tree.iter().map(|t| t.0));
+                        let near = nodes
+                            .map(|x| (dist2(&s.goals[x as usize].q, &target), x))
+                            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                        let Some((d2, near)) = near else { break };
+                        let q_near = s.goals[near as usize].q.clone();
+                        let t = (TREE_STEP / d2.sqrt().max(f64::MIN_POSITIVE)).min(1.0);
+                        let q: Vec<f64> = q_near.iter().zip(&target).map(|(a, b)| a + t * (b - a)).collect();
+                        let Check::Touches(l) = self.space.check(&q, &Mode::default(), &mut c) else { continue };
+                        let res = self.settings.resolution;
+                        let seg = self.space.check_segment(&q_near, &q, res, &Mode::default(), &mut c);
+                        let Check::Touches(le) = seg else { continue };
+                        s.goals.push(GoalNode::new(&q));
+                        let id = (s.goals.len() - 1) as u32;
+                        s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
+                        s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(near), Node::Goal(id)), Some(le));
+                        s.goals[root as usize].tree.push((id, near, rr));
+                    }
+                    s.goals[root as usize].tree_rounds = rr;
+                }
+            },
+            checks,
+        );
+        *checks += c;
+    }
+
+    /// The node carried objects are taken to: home itself, or a goal node; or what
+    /// blocks it.
+    pub(super) fn drop_node(&self, checks: &mut u64) -> Result<Node, Blocker> {
+        let (home, drop) = (self.space.home(), self.space.drop_config());
+        let home_ok = self.lock(|s| s.map.home_ok, checks);
+        if !home_ok {
+            return Err(self.blocker(home));
+        }
+        if home == drop {
+            return Ok(Node::Map(0));
+        }
+        if let Some(b) = self.outside_limits(drop) {
+            return Err(b);
+        }
+        match self.goal_node(drop, checks) {
+            (id, Some(_)) => Ok(Node::Goal(id)),
+            (_, None) => Err(self.blocker(drop)),
+        }
+    }
+
+    /// What blocks a configuration known to be blocked (checked again: failures only).
+    /// Checks made only to explain a failure are not counted in the query's figures.
+    pub(super) fn blocker(&self, q: &[f64]) -> Blocker {
+        match self.space.check(q, &Mode::default(), &mut 0) {
+            Check::Blocked(b) => b,
+            // A space whose checks changed their mind: say so rather than invent a body.
+            Check::Touches(_) => Blocker::JointLimit { joint: "(unknown)".into(), value: f64::NAN },
+        }
+    }
+
+    /// The first joint of `q` outside its limits (or a wrong joint count), as a block.
+    pub(super) fn outside_limits(&self, q: &[f64]) -> Option<Blocker> {
+        let lim = self.space.limits();
+        let bad = q.len() != self.space.dof() || q.iter().zip(lim).any(|(v, (lo, hi))| v < lo || v > hi);
+        if !bad {
+            return None;
+        }
+        // A world robot names the joint; a test space may not check limits at all.
+        if let Check::Blocked(b @ Blocker::JointLimit { .. }) = self.space.check(q, &Mode::default(), &mut 0) {
+            return Some(b);
+        }
+        let i = q.iter().zip(lim).position(|(v, (lo, hi))| v < lo || v > hi).unwrap_or(q.len().min(lim.len()));
+        Some(Blocker::JointLimit { joint: format!("#{}", i + 1), value: q.get(i).copied().unwrap_or(f64::NAN) })
+    }
+
+    /// selectGrasps results made into goals; grasps whose pre-grasp or straight
+    /// approach hits something fixed (or the pre-grasp touches the object) are dropped.
+    /// Also returns, when no grasp is left, what blocked each (distinct blocks, in order).
+    pub(super) fn grasp_goals(
+        &self,
+        o: ObjectId,
+        grasps: Vec<GraspConfig>,
+        checks: &mut u64,
+    ) -> (Vec<GraspGoal>, Vec<Blocker>) {
+        let mut out = Vec::new();
+        let mut blocked = Vec::new();
+        // Keyed by position: selectGrasps may return several solutions of one grasp.
+        for (g, cfg) in grasps.into_iter().enumerate() {
+            let (pre, lab) = self.goal_node(&cfg.q_pregrasp, checks);
+            let Some(lab) = lab else {
+                blocked.push((cfg.clone(), None));
+                continue;
+            };
+            if lab.contains(o) {
+                continue;
+            }
+            let g = g as u32;
+            let held = self.space.held(o, &cfg.q_grasp);
+            let item = LabelKey::Approach(o, g);
+            let cached = self.lock(
+                |s| {
+                    s.helds
+                        .entry((o, g))
+                        .or_insert_with(|| (held.clone(), cfg.q_grasp.to_vec(), cfg.q_pregrasp.to_vec()));
+                    s.labels.get(&item).cloned()
+                },
+                checks,
+            );
+            let approach = match cached {
+                Some(l) => l,
+                None => {
+                    let job = Job {
+                        item,
+                        a: cfg.q_pregrasp.to_vec(),
+                        b: None,
+                        mode: Mode { absent: ObjectSet::single(o), held: Some(held.clone()) },
+                        grasp: Some(cfg.q_grasp.to_vec()),
+                        empty: None,
+                    };
+                    let l = self.eval(&job, false, checks);
+                    self.lock(|s| s.labels.insert(item, l.clone()), checks);
+                    l
+                }
+            };
+            match approach {
+                Some(approach) => out.push(GraspGoal { cfg, key: g, pre, pre_set: lab, approach }),
+                None => blocked.push((cfg, Some(held))),
+            }
+        }
+        if !out.is_empty() {
+            return (out, Vec::new());
+        }
+        // Only on failure: check the blocked grasps again to say what blocks them.
+        let mut blockers: Vec<Blocker> = Vec::new();
+        for (cfg, held) in blocked {
+            let b = match held {
+                None => self.blocker(&cfg.q_pregrasp),
+                Some(held) => {
+                    let mode = Mode { absent: ObjectSet::single(o), held: Some(held) };
+                    let res = self.settings.resolution;
+                    match self.space.check_segment(&cfg.q_grasp, &cfg.q_pregrasp, res, &mode, &mut 0) {
+                        Check::Blocked(b) => b,
+                        Check::Touches(_) => continue,
+                    }
+                }
+            };
+            if !blockers.contains(&b) {
+                blockers.push(b);
+            }
+        }
+        (out, blockers)
+    }
+}

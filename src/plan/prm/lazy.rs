@@ -1,0 +1,270 @@
+//! Lazy labelling: one round's search over every goal's layered graph, checking only
+//! the elements a best path uses, then certifying the winner with the fine check.
+
+use std::collections::{HashMap, HashSet};
+
+use rayon::prelude::*;
+
+use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node};
+use super::super::search::{fewest_removals, fewest_vertices, Found, Len};
+use super::super::space::{Mode, Space};
+use super::{key, vkey, Cand, RobotPlanner};
+use crate::resolve::{ObjectId, Objective};
+use crate::world::{Check, ObjectSet};
+
+impl<S: Space> RobotPlanner<S> {
+    /// Labels one item. Segments, the straight approach included, are checked every
+    /// `resolution` while searching and with the certifying check (`fine`) once on a
+    /// chosen path.
+    pub(super) fn eval(&self, job: &Job, fine: bool, checks: &mut u64) -> Option<ObjectSet> {
+        let res = self.settings.resolution;
+        let seg = |a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64| {
+            if fine {
+                self.space.check_segment_fine(a, b, res, mode, checks)
+            } else {
+                self.space.check_segment(a, b, res, mode, checks)
+            }
+        };
+        let c = match (&job.b, &job.grasp) {
+            // The approach in (object absent, hand empty) and the retreat carrying the
+            // object pass the same samples, and a check carrying an object finds all the
+            // empty hand finds (the robot's own bodies are checked the same way) plus what
+            // the object touches: the retreat alone gives the union.
+            (_, Some(grasp)) => seg(grasp, &job.a, &job.mode, checks),
+            // Carrying, with the empty hand's label of this edge known: the robot's own
+            // bodies meet the same things (less the object, now in the hand), so only the
+            // object needs checking; an edge blocked for the empty hand stays blocked.
+            (Some(b), None) if !fine && job.empty.is_some() => match &job.empty {
+                Some(Some(empty)) => match self.space.check_segment_held(&job.a, b, res, &job.mode, checks) {
+                    Check::Touches(mut l) => {
+                        let mut robot = empty.clone();
+                        for o in job.mode.absent.iter() {
+                            robot.remove(o);
+                        }
+                        l.union_with(&robot);
+                        Check::Touches(l)
+                    }
+                    blocked => blocked,
+                },
+                _ => return None,
+            },
+            (Some(b), None) => seg(&job.a, b, &job.mode, checks),
+            (None, None) => self.space.check(&job.a, &job.mode, checks),
+        };
+        match c {
+            Check::Touches(l) => Some(l),
+            Check::Blocked(_) => None,
+        }
+    }
+
+    /// Searches every goal's graph at round `r`, evaluating labels lazily, and returns
+    /// the best candidate.
+    pub(super) fn search_round(
+        &self,
+        r: usize,
+        object: Option<ObjectId>,
+        goals: &[GraspGoal],
+        drop: Option<Node>,
+        (objective, bound, trees): (Objective, u32, bool),
+        checks: &mut u64,
+    ) -> Option<Cand> {
+        let mut built: Vec<Built> = self.lock(
+            |s| {
+                if !s.map.home_ok {
+                    return Vec::new();
+                }
+                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, (bound, trees))).collect()
+            },
+            checks,
+        );
+        if built.is_empty() {
+            return None;
+        }
+        let search = |b: &Built| match objective {
+            Objective::FewestRemovals => fewest_removals(&b.g, b.start, b.goal, bound),
+            Objective::FewestVertices => fewest_vertices(&b.g, b.start, b.goal),
+        };
+        // Each goal's answer on its current labels; re-searched only when they change.
+        let mut found: Vec<Option<Found>> = built.par_iter().map(search).collect();
+        let mut dirty = vec![false; built.len()];
+        loop {
+            let stale: Vec<usize> = (0..built.len()).filter(|&i| dirty[i]).collect();
+            let fresh: Vec<Option<Found>> = stale.par_iter().map(|&i| search(&built[i])).collect();
+            for (i, f) in stale.into_iter().zip(fresh) {
+                found[i] = f;
+                dirty[i] = false;
+            }
+            // Which goals' paths to evaluate. Unknown labels are lower bounds and only grow,
+            // so under `fewest_removals` each goal's (set size, length) can only get worse:
+            // the goal with the smallest key is the only one worth checking, and once its
+            // path is fully known no other goal can beat it. The paper's rule has no such
+            // bound (a blocked edge can make a longer path touch less), so it checks all.
+            let chosen: Vec<usize> = match objective {
+                Objective::FewestRemovals => found
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, f)| f.as_ref().map(|f| ((f.set.count(), Len(f.len), i), i)))
+                    .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
+                    .map(|(_, i)| vec![i])
+                    .unwrap_or_default(),
+                Objective::FewestVertices => (0..built.len()).collect(),
+            };
+            // Unknown items on the chosen paths.
+            let mut wanted: Vec<LabelKey> = Vec::new();
+            let mut seen = HashSet::new();
+            for &i in &chosen {
+                let (b, Some(f)) = (&built[i], &found[i]) else { continue };
+                for &v in &f.verts {
+                    if !b.g.vlab[v as usize].is_known() && seen.insert(b.vkey[v as usize]) {
+                        wanted.push(b.vkey[v as usize]);
+                    }
+                }
+                for &e in &f.edges {
+                    if !b.g.elab[e as usize].is_known() {
+                        let k = b.ekey[e as usize].expect("unknown edges have keys");
+                        if seen.insert(k) {
+                            wanted.push(k);
+                        }
+                    }
+                }
+            }
+            if wanted.is_empty() {
+                let sets: Vec<Option<ObjectSet>> = self.lock(
+                    |s| chosen.iter().map(|&i| found[i].as_ref().map(|f| exact_set(s, &built[i], f))).collect(),
+                    checks,
+                );
+                let mut best: Option<Cand> = None;
+                for (&i, set) in chosen.iter().zip(sets) {
+                    let (Some(f), Some(set)) = (&found[i], set) else { continue };
+                    let nodes = f.verts.iter().map(|&v| built[i].vnode[v as usize]).collect();
+                    let c = Cand { found: f.clone(), goal: i, nodes, set };
+                    let better = best.as_ref().is_none_or(|b| match objective {
+                        Objective::FewestRemovals => key(&c) < key(b),
+                        Objective::FewestVertices => vkey(&c) < vkey(b),
+                    });
+                    if better {
+                        best = Some(c);
+                    }
+                }
+                // Certify the winner's segments with the fine check. Its labels contain the
+                // coarse ones, so the coarse labels were lower bounds: if none changed the
+                // answer stands, else the changed labels go into every graph and we search on.
+                let Some(c) = &best else { return None };
+                let changed = self.certify(&built[c.goal], &c.found, checks);
+                if changed.is_empty() {
+                    return best;
+                }
+                for (b, d) in built.iter_mut().zip(dirty.iter_mut()) {
+                    for e in 0..b.ekey.len() {
+                        if let Some(l) = b.ekey[e].and_then(|k| changed.get(&k)) {
+                            b.g.elab[e] = b.erule[e].known(l.as_ref());
+                            *d = true;
+                        }
+                    }
+                }
+                continue;
+            }
+            // Look up or prepare jobs under the lock, evaluate without it.
+            let (mut known, jobs): (HashMap<LabelKey, Option<ObjectSet>>, Vec<Job>) = self.lock(
+                |s| {
+                    let mut known = HashMap::new();
+                    let mut jobs = Vec::new();
+                    for it in wanted {
+                        match lookup(s, it) {
+                            Some(l) => {
+                                known.insert(it, l);
+                            }
+                            None => jobs.push(job(s, it)),
+                        }
+                    }
+                    (known, jobs)
+                },
+                checks,
+            );
+            let results: Vec<(Option<ObjectSet>, u64)> = jobs
+                .par_iter()
+                .map(|j| {
+                    let mut c = 0;
+                    let l = self.eval(j, false, &mut c);
+                    (l, c)
+                })
+                .collect();
+            self.lock(
+                |s| {
+                    for (j, (l, _)) in jobs.iter().zip(&results) {
+                        store(s, j.item, l.clone());
+                    }
+                },
+                checks,
+            );
+            for (j, (l, c)) in jobs.iter().zip(results) {
+                *checks += c;
+                known.insert(j.item, l);
+            }
+            for ((b, f), d) in built.iter_mut().zip(&found).zip(dirty.iter_mut()) {
+                let Some(f) = f else { continue };
+                for &v in &f.verts {
+                    let v = v as usize;
+                    if let Some(l) = known.get(&b.vkey[v]) {
+                        if !b.g.vlab[v].is_known() {
+                            b.g.vlab[v] = b.vrule[v].known(l.as_ref());
+                            *d = true;
+                        }
+                    }
+                }
+                for &e in &f.edges {
+                    let e = e as usize;
+                    if let Some(l) = b.ekey[e].and_then(|k| known.get(&k)) {
+                        if !b.g.elab[e].is_known() {
+                            b.g.elab[e] = b.erule[e].known(l.as_ref());
+                            *d = true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Re-checks the segments of a path that only have a coarse label with the fine
+    /// check; returns the items whose label changed (now stored).
+    pub(super) fn certify(&self, b: &Built, f: &Found, checks: &mut u64) -> HashMap<LabelKey, Option<ObjectSet>> {
+        let jobs: Vec<Job> = self.lock(
+            |s| {
+                let mut seen = HashSet::new();
+                f.edges
+                    .iter()
+                    .filter_map(|&e| b.ekey[e as usize])
+                    .filter(|k| {
+                        matches!(k, LabelKey::Edge(..) | LabelKey::Approach(..))
+                            && !s.certified.contains(k)
+                            && seen.insert(*k)
+                    })
+                    .map(|k| job(s, k))
+                    .collect()
+            },
+            checks,
+        );
+        let results: Vec<(Option<ObjectSet>, u64)> = jobs
+            .par_iter()
+            .map(|j| {
+                let mut c = 0;
+                (self.eval(j, true, &mut c), c)
+            })
+            .collect();
+        *checks += results.iter().map(|r| r.1).sum::<u64>();
+        self.lock(
+            |s| {
+                let mut changed = HashMap::new();
+                for (j, (l, _)) in jobs.iter().zip(results) {
+                    s.certified.insert(j.item);
+                    if lookup(s, j.item).as_ref() != Some(&l) {
+                        store(s, j.item, l.clone());
+                        changed.insert(j.item, l);
+                    }
+                }
+                changed
+            },
+            checks,
+        )
+    }
+}
