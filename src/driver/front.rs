@@ -69,7 +69,8 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
         Ok(w) => w,
         Err(errs) => return fail(&sources, &errs, g),
     };
-    let overlapping = world::overlaps(&w);
+    let mut overlapping = world::overlaps(&w);
+    overlapping.extend(world::target_collides(&w));
     if !overlapping.is_empty() {
         return fail(&sources, &overlapping, g);
     }

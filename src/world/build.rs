@@ -185,13 +185,6 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         if let Some(d) = &r.drop {
             cases.push(("drop", world.drop_config(id).clone(), d.span));
         }
-        // A configuration target that hits something fixed can never be reached (a
-        // library's stand-in target is its home, checked above).
-        if let Target::Config { robot, q, .. } = &scn.target {
-            if *robot == id && q.values != r.home.values {
-                cases.push(("target", Config(q.values.clone()), q.span));
-            }
-        }
         for (what, q, span) in cases {
             if let Check::Blocked(b) = world.check(id, &q, &CheckCtx::new()) {
                 errs.push(WorldError::ConfigCollides {
@@ -277,6 +270,28 @@ pub fn load_kinematics(
             Ok(RobotKinematics { chain, bodies: bodies.into_iter().map(|b| b.name).collect(), shapes: shapes.len() })
         }
         _ => Err(errs),
+    }
+}
+
+/// A configuration target that hits something fixed, for `check` to report before
+/// planning (`compile` reports it as a proof of infeasibility). A library's stand-in
+/// target is its home, checked when the world was built.
+pub fn target_collides(world: &World) -> Option<WorldError> {
+    let scn = &world.scenario;
+    let Target::Config { robot, q, .. } = &scn.target else { return None };
+    let r = scn.robot(*robot);
+    if q.values == r.home.values {
+        return None;
+    }
+    match world.check(*robot, &q.values, &CheckCtx::new()) {
+        Check::Blocked(b) => Some(WorldError::ConfigCollides {
+            robot: r.name.clone(),
+            what: "target".into(),
+            reason: check::describe(world, *robot, &b),
+            span: q.span,
+            help: collides_help(&b),
+        }),
+        Check::Touches(_) => None,
     }
 }
 

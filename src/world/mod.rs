@@ -21,7 +21,7 @@ mod shapes;
 mod srdf;
 mod urdf;
 
-pub use build::{build, load_kinematics, overlaps, RobotKinematics, WorldOptions};
+pub use build::{build, load_kinematics, overlaps, target_collides, RobotKinematics, WorldOptions};
 pub use check::CheckCtx;
 pub use error::WorldError;
 pub use grasps::{
