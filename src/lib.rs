@@ -6,14 +6,15 @@
 //! `syntax` (text -> spanned AST) -> `resolve` (AST -> typed `Scenario`) -> `world`
 //! (URDF, meshes, kinematics, labelled collision checks) -> `plan` (PRMwO roadmaps,
 //! `findPath`, the AND/OR graph) -> `schedule` (actions, YAML/JSON/DOT) -> `verify`
-//! (an independent re-check). `diag` holds spans and rendering; `driver` runs the
-//! stages for the command line.
+//! (an independent re-check); `show` draws a world and a schedule as a 3-D page.
+//! `diag` holds spans and rendering; `driver` runs the stages for the command line.
 
 pub mod diag;
 pub mod driver;
 pub mod plan;
 pub mod resolve;
 pub mod schedule;
+pub mod show;
 pub mod syntax;
 pub mod verify;
 pub mod world;

@@ -6,13 +6,14 @@ use std::path::PathBuf;
 mod commands;
 mod compile;
 mod pipeline;
+mod show_cmd;
 mod verify_cmd;
 
 pub use compile::{plan_verified, stats_table, Planned};
 pub use verify_cmd::parse_schedule;
 mod front;
 
-pub use commands::{check, compile, graph, resolve, verify};
+pub use commands::{check, compile, graph, resolve, show, verify};
 pub use front::render_report;
 
 /// Output format of a schedule.
@@ -80,6 +81,15 @@ pub struct CompileOptions {
 pub struct GraphOptions {
     pub seed: Option<u64>,
     pub objective: Option<String>,
+}
+
+/// Options of `declutter show`.
+#[derive(Clone, Debug)]
+pub struct ShowOptions {
+    /// The schedule to replay; `None` shows the cell alone.
+    pub schedule: Option<PathBuf>,
+    /// Where the page is written.
+    pub out: PathBuf,
 }
 
 pub const EXIT_OK: u8 = 0;

@@ -10,6 +10,7 @@
 mod build;
 mod chain;
 mod check;
+mod drawing;
 mod error;
 mod grasps;
 mod ik;
@@ -19,6 +20,7 @@ mod urdf;
 
 pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
 pub use check::{CheckCtx, CONTACT_TOLERANCE};
+pub use drawing::{Drawable, DrawnBody, DrawnShape};
 pub use error::WorldError;
 pub use grasps::{
     report, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,
