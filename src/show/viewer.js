@@ -280,7 +280,10 @@ function painted() {
   }
   return n;
 }
-const report = { ready: true, errors: window.pageErrors, t, duration: S.duration, painted: painted() };
+const report = {
+  ready: true, errors: window.pageErrors, t, duration: S.duration, painted: painted(), status: S.status,
+  violations: S.violations.length, marked: violationMarks.filter(Boolean).length,
+};
 if (targetIndex >= 0) {
   const p = groups[targetIndex].position;
   const start = S.poses[0].slice(S.bodies[targetIndex].track * 7, S.bodies[targetIndex].track * 7 + 3);
