@@ -39,10 +39,15 @@ fn declutter(args: &[&str]) -> std::process::Output {
 
 /// Compiles an example and writes its page; returns the page's path.
 fn page(example: &str) -> PathBuf {
+    page_of(example, &format!("examples/{example}.dcl"))
+}
+
+/// Compiles a scenario and writes its page, named after `example`.
+fn page_of(example: &str, dcl: &str) -> PathBuf {
     let dir = artefacts();
     let schedule = dir.join(format!("{example}.yaml"));
     let html = dir.join(format!("{example}.html"));
-    let dcl = format!("examples/{example}.dcl");
+    let dcl = dcl.to_string();
     let out = declutter(&["compile", &dcl, "-o", schedule.to_str().unwrap()]);
     assert!(out.status.success(), "compile {example}: {}", String::from_utf8_lossy(&out.stderr));
     let out = declutter(&["show", &dcl, schedule.to_str().unwrap(), "-o", html.to_str().unwrap()]);
@@ -173,12 +178,12 @@ fn differs(a: [u8; 3], b: [u8; 3]) -> bool {
     a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y) as u32).sum::<u32>() > 24
 }
 
-fn replay_checks(example: &str) {
+fn replay_checks(example: &str, dcl: &str) {
     let Some(chrome) = chromium() else {
         println!("skipped: no chromium on PATH (install Debian's `chromium`; .ci/run does)");
         return;
     };
-    let html = page(example);
+    let html = page_of(example, dcl);
     let text = std::fs::read_to_string(&html).expect("page");
     assert!(!text.contains("<script src=") && !text.contains("<link "), "the page loads nothing from outside");
 
@@ -212,12 +217,36 @@ fn replay_checks(example: &str) {
 
 #[test]
 fn box_lid_replays_in_chromium() {
-    replay_checks("box_lid");
+    replay_checks("box_lid", "examples/box_lid.dcl");
 }
 
 #[test]
 fn mesh_part_replays_in_chromium() {
-    replay_checks("mesh_part");
+    replay_checks("mesh_part", "examples/mesh_part.dcl");
+}
+
+/// A robot made of meshes: the book's Panda scenario ("Using your own robot"), with
+/// Gepetto's example-robot-data from `../shared/robots/panda`.
+#[test]
+fn panda_with_mesh_links_replays_in_chromium() {
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/robots/panda");
+    if !robots.is_dir() {
+        println!("skipped: {} is absent", robots.display());
+        return;
+    }
+    let book = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/own-robot.md")).unwrap();
+    let fence = "```dcl,link=robots:../shared/robots/panda\n";
+    let start = book.find(fence).expect("the book's Panda scenario") + fence.len();
+    let scenario = &book[start..start + book[start..].find("```").unwrap()];
+    let dir = artefacts().join("panda");
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("robots");
+    if std::fs::symlink_metadata(&link).is_err() {
+        std::os::unix::fs::symlink(robots.canonicalize().unwrap(), &link).unwrap();
+    }
+    let dcl = dir.join("panda_can.dcl");
+    std::fs::write(&dcl, scenario).unwrap();
+    replay_checks("panda_can", dcl.to_str().unwrap());
 }
 
 /// The box_lid schedule as JSON, compiled once per call.
@@ -282,4 +311,26 @@ fn cans_5_page_and_the_cell_alone_stay_small() {
         let r = report(&chrome, &cell, "");
         assert_eq!(r["duration"], 0.0);
     }
+}
+
+/// Every picture the book shows from `figures/generated/` (drawn by
+/// `book/tools/render_pictures.sh`) has a committed copy to fall back on, and the script
+/// draws it.
+#[test]
+fn book_pictures_have_committed_copies_and_one_command_draws_them() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = std::fs::read_to_string(root.join("book/tools/render_pictures.sh")).unwrap();
+    let mut seen = 0;
+    for page in std::fs::read_dir(root.join("book/src")).unwrap().flatten() {
+        let text = std::fs::read_to_string(page.path()).unwrap_or_default();
+        for part in text.split("<img src=\"figures/generated/").skip(1) {
+            let name = &part[..part.find(".png\"").expect("a PNG")];
+            let fallback = format!("this.src='figures/replay/{name}.png'");
+            assert!(part[..part.find('>').unwrap()].contains(&fallback), "{name}: no fallback in {:?}", page.path());
+            assert!(root.join(format!("book/src/figures/replay/{name}.png")).is_file(), "{name}.png is not committed");
+            assert!(script.contains(&format!("\nshot {name} ")), "render_pictures.sh does not draw {name}");
+            seen += 1;
+        }
+    }
+    assert!(seen >= 4, "the book shows {seen} pictures");
 }

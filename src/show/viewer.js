@@ -131,8 +131,9 @@ function item(list, html, onClick) {
 }
 const esc = (s) => String(s).replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;');
 const robotColour = (name) => {
-  const i = S.bodies.findIndex((b) => b.kind === 'hand' && S.robots[b.robot] === name);
-  return i >= 0 ? S.bodies[i].colour : '#999';
+  const mine = S.bodies.filter((b) => b.robot !== undefined && S.robots[b.robot] === name);
+  const b = mine.find((x) => x.kind === 'hand') || mine[0];
+  return b ? b.colour : '#999';
 };
 
 const actionItems = S.actions.map((a) => item($('actions'),
@@ -226,7 +227,9 @@ function frame() {
   const c = box.getCenter(new THREE.Vector3());
   const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.3);
   const dist = radius / Math.sin((camera.fov * Math.PI) / 360) * 1.05;
-  const dir = new THREE.Vector3(1.0, -0.8, 0.75).normalize();
+  const cam = new URLSearchParams(location.hash.slice(1)).get('cam');
+  const v = cam ? cam.split(',').map(Number) : [];
+  const dir = (v.length === 3 && v.every(Number.isFinite) ? new THREE.Vector3(...v) : new THREE.Vector3(1.0, -0.8, 0.75)).normalize();
   camera.position.copy(c).addScaledVector(dir, dist);
   controls.target.copy(c);
   controls.update();
@@ -250,12 +253,15 @@ renderer.setAnimationLoop((now) => {
 });
 
 // ---- start: `#t=SECONDS` or `#at=FRACTION` opens paused there; otherwise play from 0.
+// The hash may also hold a camera: `cam=x,y,z` (a direction to look from).
 function requested() {
   const h = new URLSearchParams(location.hash.slice(1));
   if (h.has('t')) return parseFloat(h.get('t'));
   if (h.has('at')) return parseFloat(h.get('at')) * S.duration;
   return null;
 }
+// `#…&bare` leaves only the 3-D view (for pictures).
+if (new URLSearchParams(location.hash.slice(1)).has('bare')) document.body.classList.add('bare');
 resize();
 apply(0);
 frame();
