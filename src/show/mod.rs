@@ -13,7 +13,7 @@ mod scene;
 mod timeline;
 
 pub use page::{html, THREE_VERSION};
-pub use scene::{SceneData, KEYFRAME_STEP};
+pub use scene::{SceneData, KEYFRAME_STEP, MAX_KEYFRAMES};
 pub use timeline::{untimed, Timeline, NOMINAL_SPEED};
 
 use crate::schedule::Schedule;

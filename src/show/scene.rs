@@ -12,6 +12,9 @@ use crate::world::{Drawable, DrawnShape, World};
 /// Time between keyframes (s). At the nominal 1 rad/s no joint turns more than 0.04
 /// rad between two, so the page's interpolation of link poses stays within a few mm.
 pub const KEYFRAME_STEP: f64 = 0.04;
+/// Most keyframes a page holds: a longer schedule gets a longer step, so the file stays
+/// small (about 1.2 kB per keyframe for two arms and a few objects).
+pub const MAX_KEYFRAMES: usize = 2500;
 
 const ROBOT_COLOURS: [&str; 6] = ["#4f83c2", "#c25b4f", "#5aa05a", "#8f6fb8", "#d99a3b", "#8c6d5a"];
 const HAND_COLOURS: [&str; 6] = ["#2c5a91", "#8f3328", "#33702f", "#5e4487", "#a86b17", "#5e4537"];
@@ -222,10 +225,11 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
         });
     }
 
-    let frames = (timeline.duration / KEYFRAME_STEP).ceil() as usize + 1;
+    let step = KEYFRAME_STEP.max(timeline.duration / (MAX_KEYFRAMES - 1) as f64);
+    let frames = ((timeline.duration / step).ceil() as usize + 1).min(MAX_KEYFRAMES);
     let mut poses = Vec::with_capacity(frames);
     for k in 0..frames {
-        let t = (k as f64 * KEYFRAME_STEP).min(timeline.duration);
+        let t = (k as f64 * step).min(timeline.duration);
         let qs: Vec<Vec<f64>> = timeline.tracks.iter().map(|tr| tr.sample(t)).collect();
         let fk: Vec<Vec<(String, Pose)>> = scn.robot_ids().map(|r| world.fk_links(r, &qs[r.index()])).collect();
         let mut row = vec![0.0; tracks * 7];
@@ -277,7 +281,7 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
         },
         bodies,
         robots: scn.robots.iter().map(|r| r.name.clone()).collect(),
-        step: KEYFRAME_STEP,
+        step,
         frames,
         poses,
         duration: r4(timeline.duration),
