@@ -54,6 +54,9 @@ const groups = S.bodies.map((b, i) => {
   const group = new THREE.Group();
   group.userData.body = i;
   const material = new THREE.MeshStandardMaterial({ color: b.colour, roughness: 0.65, metalness: 0.05 });
+  // Fixed bodies other than the floor are see-through: objects inside crates and
+  // shelves stay visible.
+  if (b.kind === 'fixed' && b.name !== 'table') Object.assign(material, { transparent: true, opacity: 0.45, depthWrite: false });
   for (const s of b.shapes) {
     const mesh = new THREE.Mesh(geometry(s), material);
     setPose(mesh, s.pose);
