@@ -6,8 +6,9 @@
 //! `syntax` (text -> spanned AST) -> `resolve` (AST -> typed `Scenario`) -> `world`
 //! (URDF, meshes, kinematics, labelled collision checks) -> `plan` (PRMwO roadmaps,
 //! `findPath`, the AND/OR graph) -> `schedule` (actions, YAML/JSON/DOT) -> `verify`
-//! (an independent re-check). `diag` holds spans and rendering; `driver` runs the
-//! stages for the command line; `import` turns a MoveIt scene into scenario text.
+//! (an independent re-check); `show` draws a world and a schedule as a 3-D page.
+//! `diag` holds spans and rendering; `driver` runs the stages for the command line;
+//! `import` turns a MoveIt scene into scenario text.
 
 pub mod diag;
 pub mod driver;
@@ -15,6 +16,7 @@ pub mod import;
 pub mod plan;
 pub mod resolve;
 pub mod schedule;
+pub mod show;
 pub mod syntax;
 pub mod verify;
 pub mod world;

@@ -80,6 +80,21 @@ enum Command {
     /// Write a scenario from another tool's scene description.
     #[command(subcommand)]
     Import(ImportCommand),
+    /// Write the cell, and a schedule's replay, as one self-contained HTML page (3-D, three.js).
+    ///
+    /// A schedule that does not verify is still shown, each violation marked in red; one
+    /// of another scenario is refused. The page fetches nothing: it opens from file://.
+    ///
+    /// Example: declutter show examples/box_lid.dcl box_lid.yaml -o box_lid.html
+    Show {
+        /// The scenario file (.dcl).
+        file: PathBuf,
+        /// The schedule to replay, as `declutter compile` wrote it (YAML or JSON); without it, the cell alone.
+        schedule: Option<PathBuf>,
+        /// The HTML file to write.
+        #[arg(long, short)]
+        out: PathBuf,
+    },
     /// Print the AND/OR precedence graph in Graphviz DOT (exit 2, with the reason, if infeasible).
     ///
     /// Example: declutter graph examples/box_lid.dcl | dot -Tsvg > g.svg
@@ -140,6 +155,7 @@ fn main() -> ExitCode {
         Command::Import(ImportCommand::Moveit { scene, request, cell, removable, out }) => {
             driver::import_moveit(&driver::ImportOptions { scene, request, cell, removable, out }, &global)
         }
+        Command::Show { file, schedule, out } => driver::show(&file, &global, &driver::ShowOptions { schedule, out }),
         Command::Graph { file, seed, objective } => {
             driver::graph(&file, &global, &driver::GraphOptions { seed, objective })
         }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::{CompileOptions, GlobalOptions, GraphOptions};
+use super::{CompileOptions, GlobalOptions, GraphOptions, ShowOptions};
 
 pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     super::front::check(file, g)
@@ -18,4 +18,7 @@ pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions) -> u8 {
 }
 pub fn graph(file: &Path, g: &GlobalOptions, o: &GraphOptions) -> u8 {
     super::compile::graph(file, g, o)
+}
+pub fn show(file: &Path, g: &GlobalOptions, o: &ShowOptions) -> u8 {
+    super::show_cmd::show(file, g, o)
 }

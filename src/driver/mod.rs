@@ -8,13 +8,14 @@ mod commands;
 mod compile;
 mod import_cmd;
 mod pipeline;
+mod show_cmd;
 mod verify_cmd;
 
 pub use compile::{plan_verified, stats_table, Planned};
 pub use verify_cmd::parse_schedule;
 mod front;
 
-pub use commands::{check, compile, graph, resolve, verify};
+pub use commands::{check, compile, graph, resolve, show, verify};
 pub use front::render_report;
 pub use import_cmd::{import_moveit, ImportOptions};
 
@@ -83,6 +84,15 @@ pub struct CompileOptions {
 pub struct GraphOptions {
     pub seed: Option<u64>,
     pub objective: Option<String>,
+}
+
+/// Options of `declutter show`.
+#[derive(Clone, Debug)]
+pub struct ShowOptions {
+    /// The schedule to replay; `None` shows the cell alone.
+    pub schedule: Option<PathBuf>,
+    /// Where the page is written.
+    pub out: PathBuf,
 }
 
 pub const EXIT_OK: u8 = 0;

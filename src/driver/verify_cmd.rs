@@ -39,7 +39,7 @@ impl Located for ScheduleReadError {
 }
 
 /// Byte offset of a 1-based line and column.
-fn offset_of(text: &str, line: u64, column: u64) -> Option<usize> {
+pub(super) fn offset_of(text: &str, line: u64, column: u64) -> Option<usize> {
     let start: usize = text.split_inclusive('\n').take(line.checked_sub(1)? as usize).map(str::len).sum();
     let line_text = text.get(start..)?.split('\n').next()?;
     let col: usize = line_text.chars().take(column.saturating_sub(1) as usize).map(char::len_utf8).sum();

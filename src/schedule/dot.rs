@@ -2,7 +2,8 @@
 //! the object on top and one cell per robot holding its flag (Figure 5), edges
 //! coloured and labelled by robot. Several children of one node through one robot are
 //! AND edges: they leave the node as one edge into a small dot, and fan out from it.
-//! Edges of different robots are OR alternatives. The chosen assignment is drawn bold.
+//! Edges of different robots are OR alternatives. The chosen assignment is drawn bold,
+//! each chosen node names its action in the schedule (`#2`), and a legend says all this.
 
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -53,6 +54,32 @@ fn chosen(sol: &Solution) -> BTreeSet<(NodeIndex, RobotId)> {
     out
 }
 
+/// The legend: flags and their fills, the edge kinds, the chosen robot, action ids.
+fn legend() -> String {
+    let mut rows = String::new();
+    for (f, what) in [
+        (Flag::Empty, "not asked"),
+        (Flag::Null, "null: the robot cannot grasp it"),
+        (Flag::Free, "free: a path with nothing to remove"),
+        (Flag::Blocked, "blocked: a path once its children are removed"),
+        (Flag::Discarded, "discarded: its path needs an object of its own branch"),
+    ] {
+        let _ = write!(rows, "<TR><TD BGCOLOR=\"{}\">{}</TD><TD ALIGN=\"LEFT\">{what}</TD></TR>", fill(f), f.symbol());
+    }
+    for (key, what) in [
+        ("→", "a robot's path needs that object removed first (edges coloured by robot)"),
+        ("• AND", "one robot's edges through a dot: all its children must go"),
+        ("OR", "edges of different robots: alternatives"),
+        ("bold", "the chosen robot (thick cell, bold edge)"),
+        ("#k", "the object's action in the schedule"),
+    ] {
+        let _ = write!(rows, "<TR><TD>{}</TD><TD ALIGN=\"LEFT\">{what}</TD></TR>", html(key));
+    }
+    format!(
+        "  legend [label=<<TABLE BORDER=\"1\" CELLBORDER=\"0\" CELLSPACING=\"0\" CELLPADDING=\"3\"><TR><TD COLSPAN=\"2\"><B>Legend</B></TD></TR>{rows}</TABLE>>, fontsize=10];\n"
+    )
+}
+
 /// G as a DOT digraph. Deterministic: nodes in creation order, robots in order.
 pub fn to_dot(scn: &Scenario, sol: &Solution) -> String {
     let g = &sol.graph;
@@ -65,6 +92,12 @@ pub fn to_dot(scn: &Scenario, sol: &Solution) -> String {
     out.push_str("  graph [rankdir=TB, fontname=\"Helvetica\"];\n");
     out.push_str("  node [shape=plaintext, fontname=\"Helvetica\"];\n");
     out.push_str("  edge [fontname=\"Helvetica\", fontsize=10];\n");
+    out.push_str(&legend());
+    // Action ids (1-based, as in the schedule) of the chosen items.
+    let action_of = |item| match &sol.outcome {
+        Ok(plan) => plan.actions.iter().position(|a| a.item == item).map(|i| i + 1),
+        Err(_) => None,
+    };
     let mut drawn: Vec<String> = Vec::new();
     for n in g.nodes() {
         let node = g.node(n);
@@ -73,8 +106,12 @@ pub fn to_dot(scn: &Scenario, sol: &Solution) -> String {
         // A repeated object that was never analysed here reuses the answers of its first
         // node (the planner memoises them): say so, rather than leave a bare ∅.
         let unasked = node.flags.iter().all(|(_, f)| *f == crate::plan::andor::Flag::Empty);
-        let note =
-            if unasked && drawn.contains(&name) { "<BR/><FONT POINT-SIZE=\"10\">answers as above</FONT>" } else { "" };
+        let mut note =
+            if unasked && drawn.contains(&name) { "<BR/><FONT POINT-SIZE=\"10\">answers as above</FONT>" } else { "" }
+                .to_string();
+        if let Some(id) = chosen.iter().any(|(c, _)| *c == n).then(|| action_of(node.item)).flatten() {
+            note = format!(" <FONT POINT-SIZE=\"10\">#{id}</FONT>{note}");
+        }
         let mut label = String::new();
         let _ = write!(
             label,

@@ -11,6 +11,7 @@ mod analytic;
 mod build;
 mod chain;
 mod check;
+mod drawing;
 mod error;
 mod grasps;
 mod ik;
@@ -23,6 +24,7 @@ mod urdf;
 
 pub use build::{build, load_kinematics, overlaps, target_collides, RobotKinematics, WorldOptions};
 pub use check::CheckCtx;
+pub use drawing::{Drawable, DrawnBody, DrawnShape};
 pub use error::WorldError;
 pub use grasps::{
     report, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,

@@ -1,0 +1,104 @@
+//! The world's collision geometry as plain data, for drawing (`declutter show`): what is
+//! drawn is exactly what is checked (a mesh as its convex hull in the default mode).
+
+use parry3d_f64::shape::{Shape, TypedShape};
+
+use super::scene::Owner;
+use super::World;
+use crate::resolve::{FixedId, ObjectId, Pose, RobotId};
+
+/// A shape in a form a renderer draws directly. Round shapes are centred on their
+/// frame with their axis along the frame's y (as parry and three.js both have them).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Drawable {
+    /// Full extents.
+    Box {
+        size: [f64; 3],
+    },
+    /// Axis y.
+    Cylinder {
+        radius: f64,
+        length: f64,
+    },
+    Sphere {
+        radius: f64,
+    },
+    /// Triangles (capsules, convex hulls, triangle meshes).
+    Mesh {
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+    },
+}
+
+/// One shape and its pose in the frame of what carries it (a link, an object, the world).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawnShape {
+    pub shape: Drawable,
+    pub pose: Pose,
+}
+
+/// A rigid body of a robot: a link's shapes, or the hand's (on the flange link).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawnBody {
+    /// The link's name, or the hand's.
+    pub name: String,
+    /// Index into [`World::fk_links`]'s list: the link the body moves with.
+    pub link: usize,
+    pub shapes: Vec<DrawnShape>,
+}
+
+fn drawable(s: &dyn Shape) -> Option<Drawable> {
+    let mesh = |(v, t): (Vec<parry3d_f64::math::Vector>, Vec<[u32; 3]>)| Drawable::Mesh {
+        vertices: v.iter().map(|p| [p.x, p.y, p.z]).collect(),
+        triangles: t,
+    };
+    Some(match s.as_typed_shape() {
+        TypedShape::Cuboid(c) => Drawable::Box { size: (c.half_extents * 2.0).to_array() },
+        TypedShape::Cylinder(c) => Drawable::Cylinder { radius: c.radius, length: 2.0 * c.half_height },
+        TypedShape::Ball(b) => Drawable::Sphere { radius: b.radius },
+        TypedShape::Capsule(c) => mesh(c.to_trimesh(16, 8)),
+        TypedShape::ConvexPolyhedron(c) => mesh(c.to_trimesh()),
+        TypedShape::TriMesh(t) => Drawable::Mesh {
+            vertices: t.vertices().iter().map(|p| p.to_array()).collect(),
+            triangles: t.indices().to_vec(),
+        },
+        _ => return None,
+    })
+}
+
+fn drawn(s: &dyn Shape, pose: &parry3d_f64::math::Pose) -> Option<DrawnShape> {
+    Some(DrawnShape { shape: drawable(s)?, pose: Pose::from(*pose) })
+}
+
+impl World {
+    /// The robot's collision bodies, each with the link it moves with.
+    pub fn drawn_robot(&self, r: RobotId) -> Vec<DrawnBody> {
+        let m = &self.robots[r.index()];
+        m.bodies
+            .iter()
+            .map(|b| DrawnBody {
+                name: b.name.clone(),
+                link: b.link,
+                shapes: m.shapes[b.shapes.clone()]
+                    .iter()
+                    .filter_map(|s| drawn(&*s.placed.shape.0, &s.placed.pose))
+                    .collect(),
+            })
+            .collect()
+    }
+    /// The object's shapes in its body frame.
+    pub fn drawn_object(&self, o: ObjectId) -> Vec<DrawnShape> {
+        self.object_parts[o.index()].iter().filter_map(|p| drawn(&*p.shape.0, &p.pose)).collect()
+    }
+    /// The fixed body's shapes in the world frame.
+    pub fn drawn_fixed(&self, f: FixedId) -> Vec<DrawnShape> {
+        // Every robot's scene holds the fixed bodies; the first one's will do.
+        let Some(m) = self.robots.first() else { return Vec::new() };
+        m.scene
+            .entries
+            .iter()
+            .filter(|e| e.owner == Owner::Fixed(f))
+            .filter_map(|e| drawn(&*e.shape.0, &e.pose))
+            .collect()
+    }
+}

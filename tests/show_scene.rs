@@ -1,0 +1,126 @@
+//! What `declutter show` puts in its page, checked without a browser: the nominal
+//! timeline of an untimed schedule, and the scene blob's geometry and keyframes against
+//! the world's own kinematics. Planning is geometric: run with `--release`.
+
+use std::path::Path;
+
+use declutter::diag::{FsLoader, SourceMap};
+use declutter::resolve::Target;
+use declutter::schedule::Schedule;
+use declutter::show::{self, KEYFRAME_STEP, NOMINAL_SPEED};
+use declutter::world::{self, World, WorldOptions};
+use serde_json::Value;
+
+fn box_lid() -> (World, Schedule) {
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(Path::new("examples/box_lid.dcl"), &FsLoader, &mut sources).unwrap();
+    let world = world::build(&scn, &WorldOptions::default(), &FsLoader).unwrap();
+    let planned = declutter::driver::plan_verified(&world, &|_| {}).unwrap();
+    (world, planned.schedule)
+}
+
+fn largest_step(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// The scene blob, read back out of the page.
+fn blob(html: &str) -> Value {
+    let open = "<script type=\"application/json\" id=\"scene\">";
+    let start = html.find(open).expect("the scene element") + open.len();
+    let end = start + html[start..].find("</script>").unwrap();
+    serde_json::from_str(&html[start..end]).expect("the scene is JSON")
+}
+
+fn pose_of(v: &Value, frame: usize, track: usize) -> Vec<f64> {
+    v["poses"][frame].as_array().unwrap()[track * 7..track * 7 + 7].iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+#[test]
+fn an_untimed_schedule_runs_one_action_after_another_at_the_nominal_speed() {
+    let (w, s) = box_lid();
+    let scn = w.scenario();
+    let tl = show::untimed(&w, Some(&s));
+    assert_eq!(s.removed, ["lid", "can"]);
+    let (r1, r2) = (scn.robot_by_name("r1").unwrap(), scn.robot_by_name("r2").unwrap());
+    let (lid, can) = (tl.actions[0].clone(), tl.actions[1].clone());
+    assert_eq!((lid.start, can.start), (0.0, lid.end), "the second action starts when the first ends");
+    assert_eq!(tl.duration, can.end);
+    // r1 waits at home through the lid's removal.
+    assert_eq!(tl.tracks[r1.index()].sample(lid.end), w.home(r1).to_vec());
+    // Each segment takes its largest joint move at 1 rad/s.
+    let a = &s.actions[0].approach;
+    assert_eq!(NOMINAL_SPEED, 1.0);
+    assert!((lid.approach_t[2] - lid.approach_t[1] - largest_step(&a[1], &a[2])).abs() < 1e-12);
+    // The lid is grasped at the end of the approach and let go at r2's `drop`.
+    let events: Vec<_> = tl.events.iter().filter(|e| scn.object(e.object).body.name == "lid").collect();
+    assert_eq!(events.len(), 2);
+    assert_eq!(events[0].t, lid.approach_t[2]);
+    assert_eq!(tl.tracks[r2.index()].sample(events[0].t), a[2]);
+    let q_release = tl.tracks[r2.index()].sample(events[1].t);
+    assert!(largest_step(&q_release, w.drop_config(r2)) < 1e-12, "released at {q_release:?}");
+    // The target is taken and kept.
+    let target = match scn.target {
+        Target::Object { object, .. } => object,
+        Target::Config { .. } => unreachable!(),
+    };
+    let kept: Vec<_> = tl.events.iter().filter(|e| e.object == target).collect();
+    assert_eq!(kept.len(), 1, "the target is grasped once and never released");
+}
+
+#[test]
+fn the_page_draws_the_world_and_carries_the_target_with_the_flange() {
+    let (w, s) = box_lid();
+    let scn = w.scenario();
+    let v = blob(&show::show(&w, Some(&s), &[]));
+    assert_eq!(v["status"], "verified");
+    assert_eq!(v["step"], KEYFRAME_STEP);
+    let bodies = v["bodies"].as_array().unwrap();
+    let body = |name: &str| bodies.iter().find(|b| b["name"] == name).unwrap_or_else(|| panic!("no body {name}"));
+
+    // The crate: five boxes, the floor 30 x 30 x 1 cm at (55 cm, 0, 0.5 cm).
+    let crate_shapes = body("crate")["shapes"].as_array().unwrap();
+    assert_eq!(crate_shapes.len(), 5);
+    assert_eq!(crate_shapes[0]["type"], "box");
+    assert_eq!(crate_shapes[0]["size"], serde_json::json!([0.3, 0.3, 0.01]));
+    assert_eq!(crate_shapes[0]["pose"], serde_json::json!([0.55, 0.0, 0.005, 0.0, 0.0, 0.0, 1.0]));
+    // The can: a cylinder of 3.3 cm by 11.5 cm, its axis along y in the shape frame.
+    let can = body("can");
+    assert_eq!(can["role"], "target");
+    assert_eq!(body("lid")["role"], "removed");
+    let cyl = &can["shapes"][0];
+    assert_eq!(
+        (cyl["type"].as_str(), cyl["radius"].as_f64(), cyl["length"].as_f64()),
+        (Some("cylinder"), Some(0.033), Some(0.115))
+    );
+    // Every robot body the world has, plus one TCP per robot.
+    let robot_bodies = bodies.iter().filter(|b| b["robot"].is_number()).count();
+    let expected: usize = scn.robot_ids().map(|r| w.drawn_robot(r).len() + 1).sum();
+    assert_eq!(robot_bodies, expected);
+
+    // The can stands still until grasped, then rides with r1's flange to the end.
+    let track = can["track"].as_u64().unwrap() as usize;
+    let frames = v["frames"].as_u64().unwrap() as usize;
+    assert_eq!(pose_of(&v, 0, track)[..3], [0.55, 0.0, 0.0675]);
+    let r1 = scn.robot_by_name("r1").unwrap();
+    let a = &s.actions[1];
+    let held = w.held(r1, scn.object_by_name("can").unwrap(), a.approach.last().unwrap());
+    let expected = w.fk_flange(r1, a.retreat.last().unwrap()) * held.pose_flange_object;
+    let got = pose_of(&v, frames - 1, track);
+    let t = expected.translation.vector;
+    for (g, e) in got[..3].iter().zip([t.x, t.y, t.z]) {
+        assert!((g - e).abs() <= 1e-4, "can at {got:?}, expected {t:?}");
+    }
+    assert!(can["released_at"].is_null() && body("lid")["released_at"].is_number());
+}
+
+#[test]
+fn the_cell_alone_has_one_keyframe_and_no_actions() {
+    let (w, _) = box_lid();
+    let v = blob(&show::show(&w, None, &[]));
+    assert_eq!(
+        (v["status"].as_str(), v["frames"].as_u64(), v["duration"].as_f64()),
+        (Some("cell"), Some(1), Some(0.0))
+    );
+    assert_eq!(v["actions"], serde_json::json!([]));
+    assert!(v["bodies"].as_array().unwrap().iter().all(|b| b["role"] != "removed"));
+}
