@@ -19,13 +19,14 @@ fn bench_families(c: &mut Criterion) {
     let Some(robots) = families::shared_robots() else { return };
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench-families");
     std::fs::create_dir_all(&dir).expect("scratch dir");
-    let probe = families::probe(&robots, &dir);
+    let arm = families::Arm::Tx90;
+    let probe = families::probe(arm, &robots, &dir).expect("the arm builds");
     let n: u64 = std::env::var("FAMILY_N").ok().and_then(|v| v.parse().ok()).unwrap_or(5);
     let mut group = c.benchmark_group("families");
     group.sample_size(10);
     for family in families::FAMILIES {
         for i in 0..n {
-            let p = families::problem(&probe, &robots, &dir, family, i).expect("a goal is found");
+            let p = families::problem(arm, &probe, &robots, &dir, family, i).expect("a goal is found");
             let mut sources = SourceMap::new();
             let scn = declutter::resolve::resolve(&p.path, &FsLoader, &mut sources).expect("resolves");
             let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
