@@ -10,7 +10,7 @@ use std::path::Path;
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::schedule::Status;
 use declutter::world::{self, WorldOptions};
-use families::{probe, problem, shared_robots, FAMILIES};
+use families::{probe, problem, shared_robots, Arm, FAMILIES};
 
 /// (solved, removals) of one problem, planned and verified as `compile` does.
 fn solve(path: &Path) -> (bool, usize) {
@@ -24,14 +24,18 @@ fn solve(path: &Path) -> (bool, usize) {
 }
 
 /// Solved counts per family over problems `0..n`, and the removals in `narrow_gap`.
-fn run(n: u64, dir: &Path) -> Option<Vec<(String, u64, usize)>> {
+fn run(arm: Arm, n: u64, dir: &Path) -> Option<Vec<(String, u64, usize)>> {
     let robots = shared_robots()?;
-    let probe = probe(&robots, dir);
+    let probe = probe(arm, &robots, dir).expect("the arm builds on the table");
     let mut out = Vec::new();
     for family in FAMILIES {
         let (mut solved, mut removals) = (0, 0);
         for i in 0..n {
-            let p = problem(&probe, &robots, dir, family, i).expect("a goal is found");
+            // A draw that never yields a clear goal among its obstacles counts as unsolved.
+            let Some(p) = problem(arm, &probe, &robots, dir, family, i) else {
+                eprintln!("{arm:?} {family} {i}: no clear goal in the draws allowed");
+                continue;
+            };
             let (ok, r) = solve(&p.path);
             solved += u64::from(ok);
             removals += r;
@@ -46,8 +50,18 @@ fn run(n: u64, dir: &Path) -> Option<Vec<(String, u64, usize)>> {
 fn solved_counts_of_the_first_ten_per_family() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families");
     std::fs::create_dir_all(&dir).expect("scratch dir");
-    let Some(got) = run(10, &dir) else { return };
+    let Some(got) = run(Arm::Tx90, 10, &dir) else { return };
     let text: Vec<String> = got.iter().map(|(f, s, r)| format!("{f}: {s}/10 solved, {r} removed")).collect();
+    insta::assert_snapshot!(text.join("\n"));
+}
+
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn panda_solved_counts_of_the_first_five_per_family() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-panda");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let Some(got) = run(Arm::Panda, 5, &dir) else { return };
+    let text: Vec<String> = got.iter().map(|(f, s, r)| format!("{f}: {s}/5 solved, {r} removed")).collect();
     insta::assert_snapshot!(text.join("\n"));
 }
 
@@ -60,8 +74,10 @@ fn solved_fraction_of_a_hundred_per_family() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-100");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     let n = std::env::var("FAMILY_N").ok().and_then(|v| v.parse().ok()).unwrap_or(100);
-    let Some(got) = run(n, &dir) else { return };
-    for (f, s, r) in got {
-        println!("{f}: {s}/{n} solved, {r} removed");
+    for arm in [Arm::Tx90, Arm::Panda] {
+        let Some(got) = run(arm, n, &dir) else { return };
+        for (f, s, r) in got {
+            println!("{arm:?} {f}: {s}/{n} solved, {r} removed");
+        }
     }
 }

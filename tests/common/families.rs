@@ -1,5 +1,6 @@
-//! Seeded benchmark families on a real arm (the TX-90 of `../shared/robots`): a
-//! configuration target with fixed obstacles built around the hand at that target.
+//! Seeded benchmark families on real arms of `../shared/robots` (the TX-90 with a hand,
+//! the Panda's sphere model): a configuration target with fixed obstacles built around
+//! the hand (or the flange) at that target.
 //!
 //! Each problem is a pure function of (family, index): a ChaCha RNG draws the goal
 //! configuration until the hand stands where the family wants it and the arm touches
@@ -33,15 +34,33 @@ pub fn shared_robots() -> Option<PathBuf> {
     }
 }
 
-fn cell(robots: &Path) -> String {
-    let hands = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hands/sah.urdf");
-    format!(
-        "hand sah {{\n    urdf \"{}\"\n    tcp at (0, 0, 16cm)\n}}\n\
-         robot arm {{\n    urdf \"{}\"\n    hand sah\n    home [0, -20deg, 110deg, 0, 60deg, 0]\n}}\n\
-         fixed table box(1.6m, 1.6m, 4cm) at (0, 0, -2cm)\n",
-        hands.display(),
-        robots.join("tx90/tx90.urdf").display()
-    )
+/// The arms the families run on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Arm {
+    /// The TX-90 (`tx90/tx90.urdf`) with the `sah` hand of the examples.
+    Tx90,
+    /// The Panda's sphere model (`panda/vamp/panda_spherized.urdf`), its own hand.
+    Panda,
+}
+
+fn cell(arm: Arm, robots: &Path) -> String {
+    match arm {
+        Arm::Tx90 => {
+            let hands = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hands/sah.urdf");
+            format!(
+                "hand sah {{\n    urdf \"{}\"\n    tcp at (0, 0, 16cm)\n}}\n\
+                 robot arm {{\n    urdf \"{}\"\n    hand sah\n    home [0, -20deg, 110deg, 0, 60deg, 0]\n}}\n\
+                 fixed table box(1.6m, 1.6m, 4cm) at (0, 0, -2cm)\n",
+                hands.display(),
+                robots.join("tx90/tx90.urdf").display()
+            )
+        }
+        Arm::Panda => format!(
+            "robot arm {{\n    urdf \"{}\"\n    home [0, -45deg, 0, -135deg, 0, 90deg, 45deg]\n}}\n\
+             fixed table box(1.6m, 1.6m, 4cm) at (0, 0, -2cm)\n",
+            robots.join("panda/vamp/panda_spherized.urdf").display()
+        ),
+    }
 }
 
 fn load(text: &str, dir: &Path, name: &str) -> Option<World> {
@@ -60,10 +79,14 @@ pub struct Problem {
     pub text: String,
 }
 
-/// The arm alone on the table (for drawing goals), built once per directory.
-pub fn probe(robots: &Path, dir: &Path) -> World {
-    let text = format!("scenario \"probe\"\n{}target arm at [0, -20deg, 110deg, 0, 60deg, 0]\n", cell(robots));
-    load(&text, dir, "probe").expect("the probe cell builds")
+/// The arm alone on the table (for drawing goals); `None` if it does not build.
+pub fn probe(arm: Arm, robots: &Path, dir: &Path) -> Option<World> {
+    let home = match arm {
+        Arm::Tx90 => "[0, -20deg, 110deg, 0, 60deg, 0]",
+        Arm::Panda => "[0, -45deg, 0, -135deg, 0, 90deg, 45deg]",
+    };
+    let text = format!("scenario \"probe\"\n{}target arm at {home}\n", cell(arm, robots));
+    load(&text, dir, &format!("probe_{arm:?}"))
 }
 
 fn mix(a: u64, b: u64) -> u64 {
@@ -74,12 +97,23 @@ fn mix(a: u64, b: u64) -> u64 {
 
 /// Problem `index` of `family`, written into `dir`; `None` if no goal was found in the
 /// draws allowed (never for the shipped families in practice).
-pub fn problem(probe: &World, robots: &Path, dir: &Path, family: &'static str, index: u64) -> Option<Problem> {
+pub fn problem(
+    arm: Arm,
+    probe: &World,
+    robots: &Path,
+    dir: &Path,
+    family: &'static str,
+    index: u64,
+) -> Option<Problem> {
     let fam = FAMILIES.iter().position(|f| *f == family)? as u64;
-    let mut rng = ChaCha8Rng::seed_from_u64(mix(fam + 1, index));
+    let arm_key = match arm {
+        Arm::Tx90 => 0,
+        Arm::Panda => 100,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(mix(fam + 1 + arm_key, index));
     let r = RobotId(0);
     let lim = probe.limits(r).to_vec();
-    for _ in 0..2000 {
+    for _ in 0..20_000 {
         let q: Vec<f64> = lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
         if probe.check(r, &q, &CheckCtx::new()).is_blocked() {
             continue;
@@ -94,7 +128,7 @@ pub fn problem(probe: &World, robots: &Path, dir: &Path, family: &'static str, i
         // The obstacles' frame: x from the base out to the hand, z up.
         let yaw = p.y.atan2(p.x);
         let obstacles = obstacles(family, &mut rng, p.z);
-        let mut text = format!("scenario \"{family}-{index}\"\n{}", cell(robots));
+        let mut text = format!("scenario \"{family}-{index}\"\n{}", cell(arm, robots));
         for (k, o) in obstacles.iter().enumerate() {
             let (c, s) = (yaw.cos(), yaw.sin());
             let (x, y) = (p.x + c * o.at[0] - s * o.at[1], p.y + s * o.at[0] + c * o.at[1]);
@@ -115,7 +149,10 @@ pub fn problem(probe: &World, robots: &Path, dir: &Path, family: &'static str, i
         }
         let values: Vec<String> = q.iter().map(|v| format!("{v:.6}")).collect();
         text.push_str(&format!("target arm at [{}]\n", values.join(", ")));
-        let name = format!("{family}_{index}");
+        let name = match arm {
+            Arm::Tx90 => format!("{family}_{index}"),
+            Arm::Panda => format!("panda_{family}_{index}"),
+        };
         let Some(w) = load(&text, dir, &name) else { continue };
         // The goal must be clear of every obstacle, removable ones included.
         if w.check(r, &q, &CheckCtx::new()) != world::Check::free() {
