@@ -139,7 +139,7 @@ pub fn problem(
                 ""
             };
             text.push_str(&format!(
-                "{kind} o{k} box({:.3}, {:.3}, {:.3}) at ({x:.4}, {y:.4}, {:.4}) rot (0, 0, {:.4}){grasp}\n",
+                "{kind} o{k} box({:.3}, {:.3}, {:.3}) at ({x:.4}, {y:.4}, {:.4}) rot (0, 0, {:.4}deg){grasp}\n",
                 o.size[0],
                 o.size[1],
                 o.size[2],
