@@ -26,6 +26,9 @@ struct Cli {
     /// Never colour diagnostics.
     #[arg(long, global = true)]
     no_color: bool,
+    /// Show every warning: past three of one kind, the rest are otherwise only counted.
+    #[arg(long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -145,6 +148,7 @@ fn main() -> ExitCode {
     };
     let mut global = GlobalOptions::from_env(cli.package_path, cli.no_color);
     global.meshes = cli.meshes;
+    global.verbose = cli.verbose;
     let code = match cli.command {
         Command::Check { file } => driver::check(&file, &global),
         Command::Resolve { file } => driver::resolve(&file, &global),

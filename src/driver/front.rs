@@ -5,9 +5,9 @@ use std::path::Path;
 
 use miette::Diagnostic;
 
-use super::pipeline::{fail, render_options};
+use super::pipeline::{fail, warn_grouped};
 use super::{GlobalOptions, EXIT_OK};
-use crate::diag::{render_all, render_one, FsLoader, Located, RenderOptions, SourceMap, Span};
+use crate::diag::{render_all, FsLoader, Located, RenderOptions, SourceMap, Span};
 use crate::resolve::{self, JointInfo};
 use crate::world;
 
@@ -91,18 +91,17 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
             o.robots.iter().map(|r| format!("{} {}/{total}", r.name, r.grasps.len())).collect();
         eprintln!("  {}: grasps reachable by {}", o.name, per_robot.join(", "));
     }
-    for o in report.unreachable() {
-        let warning = Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span };
-        eprint!("{}", render_one(&sources, &warning, render_options(g)));
-    }
+    let ungraspable: Vec<Ungraspable> = report
+        .unreachable()
+        .map(|o| Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span })
+        .collect();
+    warn_grouped(&sources, &ungraspable, g);
     warn_all(&sources, &summary.warnings, g)
 }
 
-/// Prints each warning; `check` still succeeds.
+/// Prints the warnings, grouped by code; `check` still succeeds.
 fn warn_all(sources: &SourceMap, warnings: &[resolve::ResolveWarning], g: &GlobalOptions) -> u8 {
-    for w in warnings {
-        eprint!("{}", render_one(sources, w, render_options(g)));
-    }
+    warn_grouped(sources, warnings, g);
     EXIT_OK
 }
 

@@ -6,9 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::pipeline::{fail, render_options};
+use super::pipeline::{fail, render_options, warn_grouped};
 use super::{GlobalOptions, EXIT_INPUT, EXIT_OK};
-use crate::diag::{render_one, FsLoader, SourceMap};
+use crate::diag::{FsLoader, SourceMap};
 use crate::import::{self, CellRobot, ImportError, ImportWarning};
 use crate::{resolve, world};
 
@@ -67,9 +67,7 @@ pub fn import_moveit(o: &ImportOptions, g: &GlobalOptions) -> u8 {
         Err(errs) => return fail(&sources, &errs, g),
     };
     warnings.extend(imported.warnings);
-    for w in &warnings {
-        eprint!("{}", render_one(&sources, w, render_options(g)));
-    }
+    warn_grouped(&sources, &warnings, g);
     match write_all(&o.out, &out_dir, &imported.dcl, &imported.meshes, g) {
         Ok(()) => {
             eprintln!(

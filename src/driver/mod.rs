@@ -54,6 +54,8 @@ pub struct GlobalOptions {
     pub package_path: Vec<PathBuf>,
     pub color: bool,
     pub meshes: Meshes,
+    /// Print every warning (otherwise repeats of one kind are counted, not shown).
+    pub verbose: bool,
 }
 
 impl GlobalOptions {
@@ -64,7 +66,7 @@ impl GlobalOptions {
         }
         let color =
             !no_color && std::env::var_os("NO_COLOR").is_none() && std::io::IsTerminal::is_terminal(&std::io::stderr());
-        GlobalOptions { package_path, color, meshes: Meshes::Convex }
+        GlobalOptions { package_path, color, meshes: Meshes::Convex, verbose: false }
     }
 }
 

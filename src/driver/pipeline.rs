@@ -22,6 +22,41 @@ pub(super) fn fail<E: Diagnostic + Located>(sources: &SourceMap, errs: &[E], g: 
     EXIT_INPUT
 }
 
+/// How many warnings of one code are printed before the rest are counted in one line.
+pub(super) const WARNINGS_SHOWN_PER_CODE: usize = 3;
+
+/// Prints warnings in order, but past [`WARNINGS_SHOWN_PER_CODE`] of one code (forty
+/// ungraspable cans, thirty unread scene fields) only a count, unless `--verbose`.
+pub(super) fn warn_grouped<W: Diagnostic + Located>(sources: &SourceMap, warnings: &[W], g: &GlobalOptions) {
+    let code = |w: &W| w.code().map(|c| c.to_string()).unwrap_or_default();
+    let mut shown: Vec<(String, usize)> = Vec::new();
+    for w in warnings {
+        let c = code(w);
+        let n = match shown.iter_mut().find(|(k, _)| *k == c) {
+            Some((_, n)) => {
+                *n += 1;
+                *n
+            }
+            None => {
+                shown.push((c, 1));
+                1
+            }
+        };
+        if g.verbose || n <= WARNINGS_SHOWN_PER_CODE {
+            eprint!("{}", crate::diag::render_one(sources, w, render_options(g)));
+        }
+    }
+    for (c, n) in shown {
+        if !g.verbose && n > WARNINGS_SHOWN_PER_CODE {
+            let more = n - WARNINGS_SHOWN_PER_CODE;
+            eprintln!(
+                "note: {more} more `{c}` warning{} not shown (--verbose shows them)",
+                if more == 1 { "" } else { "s" }
+            );
+        }
+    }
+}
+
 /// A scenario resolved and its world built, with the sources for later reports.
 pub(super) struct Loaded {
     pub sources: SourceMap,

@@ -12,12 +12,12 @@ use super::check::{self, CheckCtx};
 use super::error::WorldError;
 use super::robot::{RBody, RShape, RobotModel};
 use super::scene::{Entry, Owner, Scene};
-use parry3d_f64::bounding_volume::BoundingVolume as _;
 use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
 use super::{Blocker, Check, Config, World};
 use crate::diag::{Loader, Span};
 use crate::resolve::{FileRef, FixedId, JointUnit, JointValues, ObjectId, Pose, RobotId, Scenario, Shape, Target};
+use parry3d_f64::bounding_volume::BoundingVolume as _;
 
 /// How to build a world.
 #[derive(Debug, Clone, PartialEq)]
@@ -351,7 +351,14 @@ pub fn overlaps(world: &World) -> Vec<WorldError> {
             };
             seen.push((a.owner, b.owner));
             let (other, elsewhere) = if other.file == span.file { (Some(other), None) } else { (None, Some(other)) };
-            out.push(WorldError::BodiesOverlap { a: what_a, b: what_b, depth_mm: depth * 1000.0, span, other, elsewhere });
+            out.push(WorldError::BodiesOverlap {
+                a: what_a,
+                b: what_b,
+                depth_mm: depth * 1000.0,
+                span,
+                other,
+                elsewhere,
+            });
         }
     }
     out
