@@ -19,15 +19,14 @@ pub fn render_report(sources: &SourceMap, errs: &[resolve::ResolveError], opts: 
 /// An object no robot can grasp: the scenario is valid, but planning will need another way.
 #[derive(Debug, thiserror::Error, Diagnostic)]
 #[error("no robot can grasp `{name}`")]
-#[diagnostic(
-    code(declutter::world::ungraspable),
-    severity(Warning),
-    help("no grasp has an inverse-kinematics solution clear of fixed bodies for any robot; move the object, add grasps, or add a robot")
-)]
+#[diagnostic(code(declutter::world::ungraspable), severity(Warning))]
 pub struct Ungraspable {
     pub name: String,
     #[label("declared here")]
     pub span: Span,
+    /// Why, robot by robot, then what to do.
+    #[help]
+    pub help: String,
 }
 
 impl Located for Ungraspable {
@@ -93,7 +92,15 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
     }
     let ungraspable: Vec<Ungraspable> = report
         .unreachable()
-        .map(|o| Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span })
+        .map(|o| {
+            let why: Vec<String> = o
+                .robots
+                .iter()
+                .map(|r| format!("{}: {}", r.name, world::why_ungraspable(&w, r.robot, o.object)))
+                .collect();
+            let help = format!("{}; move the object, add grasps, or add a robot", why.join("; "));
+            Ungraspable { name: o.name.clone(), span: scn.object(o.object).body.span, help }
+        })
         .collect();
     warn_grouped(&sources, &ungraspable, g);
     warn_all(&sources, &summary.warnings, g)

@@ -6,7 +6,7 @@
 use nalgebra::{Translation3, UnitQuaternion};
 use serde::Serialize;
 
-use super::{check, ik, CheckCtx, GraspConfig, ObjectSet, World, CERTIFY_PARTS};
+use super::{check, ik, Check, CheckCtx, GraspConfig, ObjectSet, World, CERTIFY_PARTS};
 use crate::resolve::{Grasp, ObjectId, Pose, RobotId};
 
 /// How far the TCP may stray from the approach line on the final move in, where the
@@ -120,6 +120,72 @@ pub(crate) fn select(w: &World, r: RobotId, o: ObjectId) -> Vec<GraspConfig> {
         }
     }
     out
+}
+
+/// Why one robot has no usable grasp of an object, for `check` to say (the first cause
+/// that holds for every grasp, in the order the grasp selection meets them).
+pub fn why_ungraspable(w: &World, r: RobotId, o: ObjectId) -> String {
+    let scn = w.scenario();
+    let hand = scn.robot(r).hand;
+    let m = &w.robots[r.index()];
+    let grasps: Vec<(usize, &Grasp)> = scn
+        .object(o)
+        .grasps
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| match (&g.hands, hand) {
+            (None, _) => true,
+            (Some(hs), Some(h)) => hs.contains(&h),
+            (Some(_), None) => false,
+        })
+        .collect();
+    if grasps.is_empty() {
+        return "no grasp is for its hand".to_string();
+    }
+    let ctx = CheckCtx::with_absent(ObjectSet::single(o));
+    let mut blocked_at_grasp = None;
+    let mut blocked_on_approach = None;
+    for &(gi, g) in &grasps {
+        let seed = query_seed(scn.planner.seed, r, o, gi);
+        for q in w.ik(r, &g.pose_world_tcp, seed, SOLUTIONS_PER_GRASP) {
+            if let Check::Blocked(b) = w.check(r, &q, &ctx) {
+                blocked_at_grasp.get_or_insert_with(|| check::describe(w, r, &b));
+                continue;
+            }
+            let pre_pose: Pose = g.pose_world_tcp
+                * nalgebra::Isometry3::from_parts(Translation3::new(0.0, 0.0, -g.approach), UnitQuaternion::identity());
+            match ik::solve_near(m, &pre_pose, &q).map(|pre| w.check(r, &pre, &ctx)) {
+                Some(Check::Blocked(b)) => {
+                    blocked_on_approach.get_or_insert_with(|| check::describe(w, r, &b));
+                }
+                _ => {
+                    blocked_on_approach
+                        .get_or_insert_with(|| "the stand-off is not reached by a straight move in".into());
+                }
+            }
+        }
+    }
+    if let Some(why) = blocked_on_approach {
+        return format!("every approach is blocked ({why})");
+    }
+    if let Some(why) = blocked_at_grasp {
+        return format!("every inverse-kinematics solution collides ({why})");
+    }
+    // No solution at all: say how far the grasps are against the arm's reach.
+    let base = m.pose_world_base.translation.vector;
+    let distance =
+        grasps.iter().map(|(_, g)| (g.pose_world_tcp.translation.vector - base).norm()).fold(f64::INFINITY, f64::min);
+    let reach: f64 = m.chain.links.iter().map(|l| l.pose_parent_joint.translation.vector.norm()).sum::<f64>()
+        + m.pose_flange_tcp.translation.vector.norm();
+    if distance > reach {
+        format!(
+            "out of reach: the nearest grasp is {distance:.2} m from its base, the arm reaches at most {reach:.2} m"
+        )
+    } else {
+        format!(
+            "no inverse-kinematics solution within the joint limits (the nearest grasp is {distance:.2} m from its base, within the arm's {reach:.2} m)"
+        )
+    }
 }
 
 /// Which robots can reach which grasps of one object.

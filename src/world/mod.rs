@@ -27,7 +27,7 @@ pub use check::CheckCtx;
 pub use drawing::{Drawable, DrawnBody, DrawnShape};
 pub use error::WorldError;
 pub use grasps::{
-    report, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,
+    report, why_ungraspable, ApproachDeviation, GraspReport, ObjectReach, RobotReach, APPROACH_ANGLE_TOLERANCE,
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
