@@ -15,6 +15,7 @@ mod grasps;
 mod ik;
 mod labels;
 mod shapes;
+mod sweep;
 mod urdf;
 
 pub use build::{build, load_kinematics, RobotKinematics, WorldOptions};
@@ -26,6 +27,7 @@ pub use grasps::{
 };
 pub use labels::{Blocker, Check, ObjectSet};
 pub use shapes::MeshMode;
+pub use sweep::{BodyInfo, JointReach, PosedShape, StaticOwner, StaticShape};
 
 use std::ops::{Deref, DerefMut};
 
