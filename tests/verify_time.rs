@@ -357,3 +357,79 @@ proptest! {
         }
     }
 }
+
+mod time_support;
+
+#[test]
+fn the_dense_recheck_agrees_on_the_swings() {
+    let w = world(&facing());
+    assert!(time_support::dense_contacts(&w, &swings(3.0), SAMPLE_BOUND / 4.0).is_empty());
+    let found = time_support::dense_contacts(&w, &swings(0.0), SAMPLE_BOUND / 4.0);
+    assert!(found.iter().any(|(t, what)| (0.9..1.1).contains(t) && what.contains("robot 0 body link")), "{found:?}");
+}
+
+/// Three links 0.4 m long in a row, joints 0.5 m apart turning about z within ±0.3 rad:
+/// links 1 and 3 never come near each other, so sampling prunes their pair.
+const THREE: &str = r#"<robot name="three"><link name="base"/>
+<link name="l1"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
+<link name="l2"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
+<link name="l3"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
+</robot>"#;
+
+#[test]
+fn self_collision_is_checked_over_every_pair_the_sampled_pruning_dropped() {
+    let loader = declutter::diag::MemLoader::new().with("/m/three.urdf", THREE.to_string());
+    let scn = scenario(vec![robot("three", "/m/three.urdf", vec![0.0; 3], None)], vec![], vec![], vec![]);
+    let opts = WorldOptions { self_collision_samples: 500, ..WorldOptions::default() };
+    let w = build(&scn, &opts, &loader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(w.self_collision_pairs(P1).is_empty(), "the planner's list: {:?}", w.self_collision_pairs(P1));
+    let names = w.bodies(P1);
+    let all: Vec<(&str, &str)> =
+        w.self_pairs_unpruned(P1).iter().map(|&(a, b)| (names[a].name.as_str(), names[b].name.as_str())).collect();
+    // Adjacent links are never a pair; links 1 and 3 are, whatever the sampling found.
+    assert_eq!(all, vec![("l1", "l3")]);
+}
+
+/// Points fixed to each shape of the robot: its bounding sphere's centre and six points on
+/// that sphere, world frame.
+fn shape_points(w: &World, r: RobotId, q: &[f64]) -> Vec<parry3d_f64::math::Vector> {
+    use parry3d_f64::math::Vector as V;
+    let mut posed = Vec::new();
+    w.pose_shapes(r, q, &mut posed);
+    let mut out = Vec::new();
+    for s in &posed {
+        let b = s.shape.0.compute_local_bounding_sphere();
+        for d in [V::ZERO, V::X, V::NEG_X, V::Y, V::NEG_Y, V::Z, V::NEG_Z] {
+            out.push(s.pose.transform_point(b.center + d * b.radius));
+        }
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// The TX-90 with its hand: no point of any shape moves farther than the bound.
+    #[test]
+    fn no_point_of_the_tx90_moves_more_than_the_reach_bound(
+        q in prop::collection::vec(-2.0f64..2.0, 6),
+        dq in prop::collection::vec(-0.02f64..0.02, 6),
+    ) {
+        let scn = scenario(
+            vec![robot("tx90", tx90(), vec![0.0; 6], Some(declutter::resolve::HandId(0)))],
+            vec![hand("sah", sah(), 0.16)],
+            vec![],
+            vec![],
+        );
+        let w = world(&scn);
+        let reach = w.joint_reach(P1).bodies;
+        let q2: Vec<f64> = q.iter().zip(&dq).map(|(a, d)| a + d).collect();
+        let bound = JointReach::displacement(&reach, &dq);
+        for (a, b) in shape_points(&w, P1, &q).iter().zip(shape_points(&w, P1, &q2)) {
+            prop_assert!((b - *a).length() <= bound + 1e-12, "moved {} > {}", (b - *a).length(), bound);
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! An independent dense re-check of a timeline, for tests: uniform time steps from one
+//! global speed bound (not the verifier's per-stretch steps), every pair of robot
+//! shapes and every robot shape against what is in place, by parry's contact depth.
+#![allow(dead_code)]
+
+use declutter::resolve::{ObjectId, RobotId};
+use declutter::verify::time::hermite::Cubic;
+use declutter::verify::time::{EventKind, Timeline, Track};
+use declutter::world::{PosedShape, StaticOwner, World, CONTACT_TOLERANCE};
+use parry3d_f64::query;
+
+/// Positions of `tr` at `t`, by the same Hermite rule the schedule format states.
+fn q_at(tr: &Track, t: f64) -> Vec<f64> {
+    let p = &tr.points;
+    let k = p.iter().rposition(|x| x.t <= t).unwrap_or(0).min(p.len().saturating_sub(2));
+    if p.len() < 2 || t <= p[0].t {
+        return p[0].q.clone();
+    }
+    if t >= p[p.len() - 1].t {
+        return p[p.len() - 1].q.clone();
+    }
+    let (a, b) = (&p[k], &p[k + 1]);
+    let h = b.t - a.t;
+    (0..a.q.len()).map(|j| Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).position((t - a.t) / h)).collect()
+}
+
+/// One global bound on every point's speed: Σ reach·(largest joint speed anywhere).
+fn global_speed(w: &World, tl: &Timeline) -> f64 {
+    tl.tracks
+        .iter()
+        .map(|tr| {
+            let reach = w.joint_reach(tr.robot).with_held(0.5);
+            let mut peak = vec![0.0f64; reach.len()];
+            for s in tr.points.windows(2) {
+                for (j, p) in peak.iter_mut().enumerate() {
+                    let c = Cubic::new(s[1].t - s[0].t, s[0].q[j], s[0].qd[j], s[1].q[j], s[1].qd[j]);
+                    *p = p.max(c.max_speed().0);
+                }
+            }
+            reach.iter().zip(&peak).map(|(r, v)| r * v).sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}
+
+fn deep(a: &PosedShape, b: &PosedShape) -> bool {
+    matches!(query::contact(&a.pose, &*a.shape.0, &b.pose, &*b.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE)
+}
+
+/// Contacts between robots, and between robots and fixed bodies or objects not yet
+/// grasped (the grasping robot's hand excepted from the grasp on), sampled so that no
+/// point moves more than `bound` between samples. Returns (t, description) of each.
+pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)> {
+    let speed = global_speed(w, tl);
+    let n = ((speed * tl.makespan / bound).ceil() as usize).max(1);
+    let statics = w.static_shapes();
+    let mut out = Vec::new();
+    let mut posed: Vec<Vec<PosedShape>> = vec![Vec::new(); tl.tracks.len()];
+    let grasped =
+        |o: ObjectId, t: f64| tl.events.iter().any(|e| e.kind == EventKind::Grasp && e.object == o && e.t <= t);
+    // The robot that grasps an object may touch it from its approach's last waypoint on.
+    let grasper = |o: ObjectId| tl.actions.iter().find(|a| a.object == Some(o)).map(|a| a.robot);
+    // Each grasp: who holds what from when to when, and the object's pose in the hand.
+    let carries: Vec<_> = tl
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Grasp)
+        .filter_map(|g| {
+            let tr = tl.tracks.iter().find(|t| t.robot == g.robot)?;
+            let release = tl
+                .events
+                .iter()
+                .find(|e| e.kind == EventKind::Release && e.object == g.object && e.t >= g.t)
+                .map_or(f64::INFINITY, |e| e.t);
+            Some((g.robot, g.t, release, w.held(g.robot, g.object, &q_at(tr, g.t))))
+        })
+        .collect();
+    for i in 0..=n {
+        let t = tl.makespan * i as f64 / n as f64;
+        for (k, tr) in tl.tracks.iter().enumerate() {
+            let flange = w.pose_shapes(tr.robot, &q_at(tr, t), &mut posed[k]);
+            // A carried object rides along as one more shape of its robot, a body of its own.
+            for (r, from, to, held) in &carries {
+                if *r == tr.robot && t >= *from && t < *to {
+                    for (shape, pose, aabb) in w.pose_held(held, &flange) {
+                        posed[k].push(PosedShape { body: usize::MAX, shape, pose, aabb });
+                    }
+                }
+            }
+        }
+        for (k, tr) in tl.tracks.iter().enumerate() {
+            let bodies = w.bodies(tr.robot);
+            let name = |b: usize| bodies.get(b).map_or("(carried)", |x| x.name.as_str()).to_string();
+            for a in posed[k].iter().filter(|a| a.body == usize::MAX || bodies[a.body].moving) {
+                if a.body == usize::MAX {
+                    // Carried objects are checked against the other robots only: they rest on
+                    // the scene when grasped.
+                    continue;
+                }
+                for s in &statics {
+                    if let StaticOwner::Object(o) = s.owner {
+                        if grasped(o, t) || grasper(o) == Some(tr.robot) {
+                            continue;
+                        }
+                    }
+                    let hit = matches!(query::contact(&a.pose, &*a.shape.0, &s.pose, &*s.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE);
+                    if hit {
+                        out.push((t, format!("robot {} body {} hits {:?}", tr.robot.0, name(a.body), s.owner)));
+                    }
+                }
+            }
+            for (l, other) in tl.tracks.iter().enumerate().skip(k + 1) {
+                let ob = w.bodies(other.robot);
+                let other_name = |b: usize| ob.get(b).map_or("(carried)", |x| x.name.as_str()).to_string();
+                let moving = |b: usize, list: &[declutter::world::BodyInfo]| list.get(b).is_none_or(|x| x.moving);
+                for a in &posed[k] {
+                    for b in &posed[l] {
+                        if (moving(a.body, &bodies) || moving(b.body, &ob)) && deep(a, b) {
+                            out.push((
+                                t,
+                                format!(
+                                    "robot {} body {} hits robot {} body {}",
+                                    tr.robot.0,
+                                    name(a.body),
+                                    other.robot.0,
+                                    other_name(b.body)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The robot ids of a timeline's tracks, for messages.
+pub fn robots(tl: &Timeline) -> Vec<RobotId> {
+    tl.tracks.iter().map(|t| t.robot).collect()
+}
