@@ -7,6 +7,7 @@ use declutter::resolve::{ObjectId, RobotId};
 use declutter::verify::time::hermite::Cubic;
 use declutter::verify::time::{EventKind, Timeline, Track};
 use declutter::world::{PosedShape, StaticOwner, World, CONTACT_TOLERANCE};
+use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::query;
 
 /// Positions of `tr` at `t`, by the same Hermite rule the schedule format states.
@@ -43,7 +44,8 @@ fn global_speed(w: &World, tl: &Timeline) -> f64 {
 }
 
 fn deep(a: &PosedShape, b: &PosedShape) -> bool {
-    matches!(query::contact(&a.pose, &*a.shape.0, &b.pose, &*b.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE)
+    a.aabb.intersects(&b.aabb)
+        && matches!(query::contact(&a.pose, &*a.shape.0, &b.pose, &*b.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE)
 }
 
 /// Contacts between robots, and between robots and fixed bodies or objects not yet
@@ -102,7 +104,8 @@ pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)
                             continue;
                         }
                     }
-                    let hit = matches!(query::contact(&a.pose, &*a.shape.0, &s.pose, &*s.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE);
+                    let hit = a.aabb.intersects(&s.aabb)
+                        && matches!(query::contact(&a.pose, &*a.shape.0, &s.pose, &*s.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE);
                     if hit {
                         out.push((t, format!("robot {} body {} hits {:?}", tr.robot.0, name(a.body), s.owner)));
                     }
@@ -137,4 +140,89 @@ pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)
 /// The robot ids of a timeline's tracks, for messages.
 pub fn robots(tl: &Timeline) -> Vec<RobotId> {
     tl.tracks.iter().map(|t| t.robot).collect()
+}
+
+/// Every waypoint of an action, in order: the approach, then the retreat after the grasp.
+fn waypoints(a: &declutter::schedule::ScheduledAction) -> Vec<&Vec<f64>> {
+    a.approach.iter().chain(a.retreat.iter().skip(1)).collect()
+}
+
+/// A stand-in for the timing stage, for tests only: each segment a rest-to-rest cubic, as
+/// short as `velocity` (every joint) and `acceleration` allow. `together`: every robot
+/// runs its own actions back to back from t = 0; else one action at a time, in id order.
+pub fn naive_timeline<'s>(
+    w: &World,
+    s: &'s declutter::schedule::Schedule,
+    velocity: f64,
+    acceleration: f64,
+    together: bool,
+) -> Timeline<'s> {
+    use declutter::verify::time::{Event, TimedAction, TimedPoint};
+    let scn = w.scenario();
+    let n = scn.robots.len();
+    let mut tracks: Vec<Track> = (0..n)
+        .map(|r| {
+            let robot = RobotId(r as u32);
+            Track { robot, points: vec![TimedPoint { t: 0.0, q: w.home(robot).to_vec(), qd: vec![0.0; w.dof(robot)] }] }
+        })
+        .collect();
+    let mut events = Vec::new();
+    let mut actions = Vec::new();
+    let mut clock = 0.0f64;
+    for a in &s.actions {
+        let r = scn.robot_by_name(&a.robot).expect("known robot");
+        let tr = &mut tracks[r.index()];
+        let dof = w.dof(r);
+        let start = if together { tr.points.last().map_or(0.0, |p| p.t) } else { clock };
+        let mut t = start;
+        if start > tr.points.last().map_or(0.0, |p| p.t) {
+            tr.points.push(TimedPoint { t, q: a.approach[0].clone(), qd: vec![0.0; dof] });
+        }
+        let wps = waypoints(a);
+        let object = a.object.as_deref().and_then(|o| scn.object_by_name(o));
+        let drop = w.drop_config(r).to_vec();
+        let mut released = false;
+        for (k, pair) in wps.windows(2).enumerate() {
+            let h = pair[0]
+                .iter()
+                .zip(pair[1])
+                .map(|(x, y)| {
+                    let d = (y - x).abs();
+                    (1.5 * d / velocity).max((6.0 * d / acceleration).sqrt())
+                })
+                .fold(1e-3, f64::max);
+            t += h;
+            tr.points.push(TimedPoint { t, q: pair[1].clone(), qd: vec![0.0; dof] });
+            if let Some(o) = object {
+                if k + 2 == a.approach.len() {
+                    events.push(Event { t, robot: r, kind: EventKind::Grasp, object: o });
+                } else if k + 2 > a.approach.len()
+                    && !released
+                    && pair[1].iter().zip(&drop).all(|(x, y)| (x - y).abs() < 1e-9)
+                {
+                    released = true;
+                    events.push(Event { t, robot: r, kind: EventKind::Release, object: o });
+                }
+            }
+        }
+        clock = t;
+        actions.push(TimedAction {
+            id: a.id,
+            robot: r,
+            object,
+            after: &a.after,
+            start,
+            end: t,
+            approach: &a.approach,
+            retreat: &a.retreat,
+        });
+    }
+    let makespan = tracks.iter().filter_map(|t| t.points.last().map(|p| p.t)).fold(0.0, f64::max);
+    for tr in &mut tracks {
+        let last = tr.points.last().cloned().expect("a start point");
+        if last.t < makespan {
+            tr.points.push(TimedPoint { t: makespan, ..last });
+        }
+    }
+    Timeline { makespan, tracks, events, actions }
 }
