@@ -433,3 +433,34 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_clearance_is_a_distance_every_moving_pair_must_keep() {
+    // Taking turns, the arms come no nearer than 0.58 m: a tip at x = 0.9 against the other
+    // arm's side at 1.5 − 0.02, at rest.
+    let w = world(&facing());
+    let with = |c: f64| ReplayOptions { clearance: c, ..options(3.0, 10.0) };
+    let (_, v) = replay(&w, &swings(3.0), &with(0.579));
+    assert!(v.is_empty(), "{v:#?}");
+    let (_, v) = replay(&w, &swings(3.0), &with(0.581));
+    assert!(!v.is_empty());
+    let (_, v) = replay(&w, &swings(3.0), &with(0.6));
+    let k = kinds(&v);
+    assert!(!k.is_empty());
+    for v in &k {
+        match v {
+            TimeViolation::Contact {
+                distance: Some(d),
+                clearance,
+                a: Party::Body { robot, .. },
+                b: Obstacle::Moving(Party::Body { robot: other, .. }),
+            } => {
+                assert_eq!((robot.as_str(), other.as_str(), *clearance), ("p1", "p2", 0.6));
+                // Reported where it first comes too near.
+                assert!(*d >= 0.58 - 1e-9 && *d < 0.6, "{d}");
+            }
+            v => panic!("{v:?}"),
+        }
+    }
+    assert!(v[0].to_string().contains("mm from robot `p2`"), "{}", v[0]);
+}

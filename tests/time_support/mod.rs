@@ -25,22 +25,41 @@ fn q_at(tr: &Track, t: f64) -> Vec<f64> {
     (0..a.q.len()).map(|j| Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).position((t - a.t) / h)).collect()
 }
 
-/// One global bound on every point's speed: Σ reach·(largest joint speed anywhere).
-fn global_speed(w: &World, tl: &Timeline) -> f64 {
-    tl.tracks
-        .iter()
-        .map(|tr| {
-            let reach = w.joint_reach(tr.robot).with_held(0.5);
-            let mut peak = vec![0.0f64; reach.len()];
-            for s in tr.points.windows(2) {
-                for (j, p) in peak.iter_mut().enumerate() {
-                    let c = Cubic::new(s[1].t - s[0].t, s[0].q[j], s[0].qd[j], s[1].q[j], s[1].qd[j]);
-                    *p = p.max(c.max_speed().0);
-                }
-            }
-            reach.iter().zip(&peak).map(|(r, v)| r * v).sum::<f64>()
-        })
-        .fold(0.0, f64::max)
+/// Sample instants: between consecutive trajectory points of any robot, a uniform step
+/// from that stretch's largest joint speeds (evaluated on a fine grid of the cubic, an
+/// estimate made safe by a factor of 2) times each joint's reach, so that no point moves
+/// more than `bound` between samples.
+fn instants(w: &World, tl: &Timeline, bound: f64) -> Vec<f64> {
+    let mut knots: Vec<f64> = tl.tracks.iter().flat_map(|tr| tr.points.iter().map(|p| p.t)).collect();
+    knots.push(0.0);
+    knots.push(tl.makespan);
+    knots.retain(|t| (0.0..=tl.makespan).contains(t));
+    knots.sort_by(f64::total_cmp);
+    knots.dedup();
+    let reach: Vec<Vec<f64>> = tl.tracks.iter().map(|tr| w.joint_reach(tr.robot).with_held(0.5)).collect();
+    let mut out = Vec::new();
+    for k in knots.windows(2) {
+        let (a, b) = (k[0], k[1]);
+        let mut speed: f64 = 0.0;
+        for (tr, reach) in tl.tracks.iter().zip(&reach) {
+            // The segment of this track covering the stretch.
+            let Some(i) = tr.points.windows(2).position(|p| p[0].t <= a && b <= p[1].t) else { continue };
+            let (p, q) = (&tr.points[i], &tr.points[i + 1]);
+            let h = q.t - p.t;
+            let v: f64 = (0..p.q.len())
+                .map(|j| {
+                    let c = Cubic::new(h, p.q[j], p.qd[j], q.q[j], q.qd[j]);
+                    let peak = (0..=64).map(|m| c.velocity(m as f64 / 64.0).abs()).fold(0.0, f64::max);
+                    2.0 * peak * reach[j]
+                })
+                .sum();
+            speed = speed.max(v);
+        }
+        let n = ((speed * (b - a) / bound).ceil() as usize).max(1);
+        out.extend((0..n).map(|i| a + (b - a) * i as f64 / n as f64));
+    }
+    out.push(tl.makespan);
+    out
 }
 
 fn deep(a: &PosedShape, b: &PosedShape) -> bool {
@@ -52,8 +71,6 @@ fn deep(a: &PosedShape, b: &PosedShape) -> bool {
 /// grasped (the grasping robot's hand excepted from the grasp on), sampled so that no
 /// point moves more than `bound` between samples. Returns (t, description) of each.
 pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)> {
-    let speed = global_speed(w, tl);
-    let n = ((speed * tl.makespan / bound).ceil() as usize).max(1);
     let statics = w.static_shapes();
     let mut out = Vec::new();
     let mut posed: Vec<Vec<PosedShape>> = vec![Vec::new(); tl.tracks.len()];
@@ -76,8 +93,7 @@ pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)
             Some((g.robot, g.t, release, w.held(g.robot, g.object, &q_at(tr, g.t))))
         })
         .collect();
-    for i in 0..=n {
-        let t = tl.makespan * i as f64 / n as f64;
+    for t in instants(w, tl, bound) {
         for (k, tr) in tl.tracks.iter().enumerate() {
             let flange = w.pose_shapes(tr.robot, &q_at(tr, t), &mut posed[k]);
             // A carried object rides along as one more shape of its robot, a body of its own.

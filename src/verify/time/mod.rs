@@ -21,6 +21,7 @@
 
 mod events;
 pub mod hermite;
+pub mod read;
 mod replay;
 mod scene;
 mod track;

@@ -32,6 +32,21 @@ pub enum TimeViolation {
         distance: Option<f64>,
         clearance: f64,
     },
+    /// A trajectory for a robot the scenario does not have.
+    UnknownTrackRobot {
+        name: String,
+    },
+    /// A trajectory whose joint names are not the robot's, in configuration order.
+    JointNames {
+        robot: String,
+        expected: String,
+        found: String,
+    },
+    /// An event naming a robot or object the scenario does not have.
+    UnknownEventName {
+        name: String,
+        kind: EventKind,
+    },
     /// No trajectory for a robot of the scenario, or two.
     TrackCount {
         robot: String,
@@ -180,6 +195,14 @@ impl fmt::Display for TimeViolation {
                 d.max(0.0) * 1e3,
                 clearance * 1e3
             ),
+            UnknownTrackRobot { name } => write!(f, "a trajectory for `{name}`, which is no robot of the scenario"),
+            JointNames { robot, expected, found } => write!(
+                f,
+                "the trajectory of robot `{robot}` names joints [{found}]; the robot's are [{expected}], in that order"
+            ),
+            UnknownEventName { name, kind } => {
+                write!(f, "a `{kind}` event names `{name}`, which is no robot or removable object of the scenario")
+            }
             TrackCount { robot, found: 0 } => write!(f, "robot `{robot}` has no trajectory"),
             TrackCount { robot, found } => write!(f, "robot `{robot}` has {found} trajectories; one is expected"),
             EmptyTrack { robot } => write!(f, "the trajectory of robot `{robot}` has no points"),
