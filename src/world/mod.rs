@@ -27,7 +27,7 @@ pub use grasps::{
 };
 pub use labels::{Blocker, Check, ObjectSet};
 pub use shapes::MeshMode;
-pub use sweep::{BodyInfo, JointReach, PosedShape, StaticOwner, StaticShape};
+pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 
 use std::ops::{Deref, DerefMut};
 

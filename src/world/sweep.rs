@@ -34,6 +34,20 @@ pub struct PosedShape {
     /// Index into [`World::bodies`].
     pub body: usize,
     pub shape: SharedShape,
+    /// For a primitive, the shape shrunk by [`CONTACT_TOLERANCE`]: two shapes overlap deeper
+    /// than the tolerance exactly when this one meets the other (the world's contact rule).
+    ///
+    /// [`CONTACT_TOLERANCE`]: super::CONTACT_TOLERANCE
+    pub eroded: Option<SharedShape>,
+    pub pose: PPose,
+    pub aabb: Aabb,
+}
+
+/// A part of a carried object, posed in the world frame (`eroded` as for [`PosedShape`]).
+#[derive(Clone)]
+pub struct HeldPart {
+    pub shape: SharedShape,
+    pub eroded: Option<SharedShape>,
     pub pose: PPose,
     pub aabb: Aabb,
 }
@@ -100,7 +114,13 @@ impl World {
         for s in &m.shapes {
             let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
             let aabb = aabb_of(&*s.placed.shape.0, &pose);
-            out.push(PosedShape { body: s.body, shape: s.placed.shape.clone(), pose, aabb });
+            out.push(PosedShape {
+                body: s.body,
+                shape: s.placed.shape.clone(),
+                eroded: s.placed.eroded.clone(),
+                pose,
+                aabb,
+            });
         }
         m.pose_world_base * links[m.chain.flange]
     }
@@ -124,13 +144,13 @@ impl World {
     }
 
     /// The carried object's shapes in the world frame, the flange at `pose_world_flange`.
-    pub fn pose_held(&self, held: &Held, pose_world_flange: &Isometry3<f64>) -> Vec<(SharedShape, PPose, Aabb)> {
+    pub fn pose_held(&self, held: &Held, pose_world_flange: &Isometry3<f64>) -> Vec<HeldPart> {
         let base = to_ppose(&(pose_world_flange * held.pose_flange_object));
         self.object_parts[held.object.index()]
             .iter()
             .map(|p| {
                 let pose = base * p.pose;
-                (p.shape.clone(), pose, aabb_of(&*p.shape.0, &pose))
+                HeldPart { shape: p.shape.clone(), eroded: p.eroded.clone(), pose, aabb: aabb_of(&*p.shape.0, &pose) }
             })
             .collect()
     }

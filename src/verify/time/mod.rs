@@ -96,12 +96,12 @@ pub struct Timeline<'a> {
     pub actions: Vec<TimedAction<'a>>,
 }
 
-/// The rates a timed schedule must respect.
+/// The rates a timed schedule must respect: the scenario's, scaled by its `speed`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RateLimits {
-    /// Per robot (scenario order), per actuated joint: |qd| at most this (URDF `velocity`).
+    /// Per robot (scenario order), per actuated joint: |qd| at most this (URDF `velocity` × `speed`).
     pub velocity: Vec<Vec<f64>>,
-    /// |qdd| at most this for every joint (the planner's `acceleration`).
+    /// |qdd| at most this for every joint (the planner's `acceleration` × `speed`).
     pub acceleration: f64,
 }
 

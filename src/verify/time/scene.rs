@@ -6,11 +6,13 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query;
-use parry3d_f64::shape::{Shape, SharedShape};
+use parry3d_f64::shape::Shape;
 
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
-use crate::world::{BodyInfo, Held, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE};
+use crate::world::{
+    BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
+};
 
 /// One robot at the instant.
 pub(super) struct RobotAt<'a> {
@@ -42,7 +44,7 @@ pub(super) struct Cell<'w> {
 #[derive(Default)]
 pub(super) struct Scratch {
     posed: Vec<Vec<PosedShape>>,
-    held: Vec<Vec<(SharedShape, PPose, Aabb)>>,
+    held: Vec<Vec<HeldPart>>,
 }
 
 impl<'w> Cell<'w> {
@@ -85,31 +87,28 @@ impl<'w> Cell<'w> {
                 let skip = |o: ObjectId| {
                     !present.contains(o) || Some(o) == ra.exempt || ra.held.is_some_and(|h| h.object == o)
                 };
-                if let Some((obs, d)) = self.against_statics(&ps.aabb, &ps.pose, &*ps.shape.0, c, skip) {
+                if let Some((obs, d)) = self.against_statics(Side::of(ps), c, skip) {
                     push(found, body(ps.body), obs, d);
                 }
             }
             // Self-collision over the unpruned pairs: contact only.
             for &(a, b) in &g.self_pairs {
-                let hit = s.posed[ri]
-                    .iter()
-                    .filter(|x| x.body == a)
-                    .any(|x| s.posed[ri].iter().filter(|y| y.body == b).any(|y| too_close(x, y, 0.0).is_some()));
-                if hit {
+                let of = |k: usize| s.posed[ri].iter().filter(move |x| x.body == k);
+                if of(a).any(|x| of(b).any(|y| near(Side::of(x), Side::of(y), 0.0).is_some())) {
                     push(found, body(a), Obstacle::Moving(body(b)), None);
                 }
             }
             // The carried object: against the scene and its carrier's own links, contact only.
             if let Some(h) = ra.held {
-                for (shape, pose, aabb) in &s.held[ri] {
+                for part in &s.held[ri] {
                     let skip = |o: ObjectId| !present.contains(o) || o == h.object;
-                    if let Some((obs, d)) = self.against_statics(aabb, pose, &*shape.0, 0.0, skip) {
+                    if let Some((obs, d)) = self.against_statics(Side::held(part), 0.0, skip) {
                         push(found, carried(h), obs, d);
                     }
-                    for ps in s.posed[ri].iter().filter(|ps| !g.bodies[ps.body].holds) {
-                        if aabb.intersects(&ps.aabb) && pair(pose, &**shape, &ps.pose, &*ps.shape.0, 0.0).is_some() {
+                    let own = s.posed[ri].iter().filter(|ps| !g.bodies[ps.body].holds);
+                    for ps in own {
+                        if near(Side::held(part), Side::of(ps), 0.0).is_some() {
                             push(found, carried(h), Obstacle::Moving(body(ps.body)), None);
-                            break;
                         }
                     }
                 }
@@ -127,37 +126,28 @@ impl<'w> Cell<'w> {
                         if !g.bodies[x.body].moving && !gj.bodies[y.body].moving {
                             continue;
                         }
-                        if let Some(d) = too_close(x, y, c) {
+                        if let Some(d) = near(Side::of(x), Side::of(y), c) {
                             push(found, body(x.body), Obstacle::Moving(other(y.body)), d);
                         }
                     }
                     if let Some(h) = rb.held {
-                        for (shape, pose, aabb) in &s.held[rj] {
-                            if let Some(d) = near_aabb(&x.aabb, aabb, c)
-                                .then(|| pair(&x.pose, &*x.shape, pose, &**shape, c))
-                                .flatten()
-                            {
+                        for part in &s.held[rj] {
+                            if let Some(d) = near(Side::of(x), Side::held(part), c) {
                                 push(found, body(x.body), Obstacle::Moving(other_carried(h)), d);
                             }
                         }
                     }
                 }
                 if let Some(h) = ra.held {
-                    for (shape, pose, aabb) in &s.held[ri] {
+                    for part in &s.held[ri] {
                         for y in &s.posed[rj] {
-                            if let Some(d) = near_aabb(aabb, &y.aabb, c)
-                                .then(|| pair(pose, &**shape, &y.pose, &*y.shape, c))
-                                .flatten()
-                            {
+                            if let Some(d) = near(Side::held(part), Side::of(y), c) {
                                 push(found, carried(h), Obstacle::Moving(other(y.body)), d);
                             }
                         }
                         if let Some(hj) = rb.held {
-                            for (shape2, pose2, aabb2) in &s.held[rj] {
-                                if let Some(d) = near_aabb(aabb, aabb2, c)
-                                    .then(|| pair(pose, &**shape, pose2, &**shape2, c))
-                                    .flatten()
-                                {
+                            for part2 in &s.held[rj] {
+                                if let Some(d) = near(Side::held(part), Side::held(part2), c) {
                                     push(found, carried(h), Obstacle::Moving(other_carried(hj)), d);
                                 }
                             }
@@ -171,24 +161,20 @@ impl<'w> Cell<'w> {
     /// The first static shape (not skipped) too close to a moving one.
     fn against_statics(
         &self,
-        aabb: &Aabb,
-        pose: &PPose,
-        shape: &dyn Shape,
+        moving: Side,
         clearance: f64,
         skip: impl Fn(ObjectId) -> bool,
     ) -> Option<(Obstacle, Option<f64>)> {
         let scn = self.world.scenario();
-        for leaf in self.bvh.intersect_aabb(aabb) {
+        for leaf in self.bvh.intersect_aabb(moving.aabb) {
             let e = &self.statics[leaf as usize];
             if let StaticOwner::Object(o) = e.owner {
                 if skip(o) {
                     continue;
                 }
             }
-            if !near_aabb(aabb, &e.aabb, clearance) {
-                continue;
-            }
-            if let Some(d) = pair(pose, shape, &e.pose, &*e.shape.0, clearance) {
+            let fixed = Side { pose: &e.pose, shape: &*e.shape.0, eroded: None, aabb: &e.aabb };
+            if let Some(d) = near(moving, fixed, clearance) {
                 let obs = match e.owner {
                     StaticOwner::Fixed(f) => Obstacle::Fixed(scn.fixed[f.index()].name.clone()),
                     StaticOwner::Object(o) => Obstacle::Object(scn.object(o).body.name.clone()),
@@ -200,37 +186,53 @@ impl<'w> Cell<'w> {
     }
 }
 
+/// One shape of a pair: posed, with its eroded form when it is a primitive.
+#[derive(Clone, Copy)]
+struct Side<'a> {
+    pose: &'a PPose,
+    shape: &'a dyn Shape,
+    eroded: Option<&'a dyn Shape>,
+    aabb: &'a Aabb,
+}
+
+impl<'a> Side<'a> {
+    fn of(p: &'a PosedShape) -> Side<'a> {
+        Side { pose: &p.pose, shape: &*p.shape.0, eroded: p.eroded.as_ref().map(|e| &*e.0), aabb: &p.aabb }
+    }
+    fn held(p: &'a HeldPart) -> Side<'a> {
+        Side { pose: &p.pose, shape: &*p.shape.0, eroded: p.eroded.as_ref().map(|e| &*e.0), aabb: &p.aabb }
+    }
+}
+
 fn push(found: &mut Vec<Finding>, a: Party, b: Obstacle, d: Option<f64>) {
     if !found.iter().any(|(x, y, _)| *x == a && *y == b) {
         found.push((a, b, d));
     }
 }
 
-fn near_aabb(a: &Aabb, b: &Aabb, clearance: f64) -> bool {
-    a.loosened(clearance).intersects(b)
-}
-
-fn too_close(x: &PosedShape, y: &PosedShape, clearance: f64) -> Option<Option<f64>> {
-    if !near_aabb(&x.aabb, &y.aabb, clearance) {
+/// `Some(None)`: overlapping deeper than the world's contact tolerance (no clearance
+/// asked): by the eroded primitive when either side has one, as the world model defines
+/// contact, else by parry's contact depth. `Some(Some(d))`: nearer than the clearance, at
+/// distance `d`. `None`: fine.
+fn near(a: Side, b: Side, clearance: f64) -> Option<Option<f64>> {
+    if !a.aabb.loosened(clearance).intersects(b.aabb) {
         return None;
     }
-    pair(&x.pose, &*x.shape.0, &y.pose, &*y.shape.0, clearance)
-}
-
-/// `Some(None)`: overlapping deeper than the contact tolerance (no clearance asked);
-/// `Some(Some(d))`: nearer than the clearance, at distance `d`; `None`: fine.
-fn pair(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, clearance: f64) -> Option<Option<f64>> {
     if clearance > 0.0 {
         // A pair parry cannot measure counts as touching: never pass what was not checked.
-        let d = query::distance(p1, s1, p2, s2).map_or(0.0, |d| d.distance);
+        let d = query::distance(a.pose, a.shape, b.pose, b.shape).map_or(0.0, |d| d.distance);
         return (d < clearance).then_some(Some(d));
     }
-    let touching = match query::intersection_test(p1, s1, p2, s2) {
-        Ok(i) if !i.intersecting => false,
-        _ => match query::contact(p1, s1, p2, s2, 0.0) {
-            Ok(Some(c)) => c.dist < -CONTACT_TOLERANCE,
-            Ok(None) => false,
-            Err(_) => true,
+    let touching = match (a.eroded, b.eroded) {
+        (Some(e), _) => query::intersection_test(a.pose, e, b.pose, b.shape).map_or(true, |i| i.intersecting),
+        (None, Some(e)) => query::intersection_test(b.pose, e, a.pose, a.shape).map_or(true, |i| i.intersecting),
+        (None, None) => match query::intersection_test(a.pose, a.shape, b.pose, b.shape) {
+            Ok(i) if !i.intersecting => false,
+            _ => match query::contact(a.pose, a.shape, b.pose, b.shape, 0.0) {
+                Ok(Some(c)) => c.dist < -CONTACT_TOLERANCE,
+                Ok(None) => false,
+                Err(_) => true,
+            },
         },
     };
     touching.then_some(None)

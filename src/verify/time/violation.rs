@@ -226,11 +226,13 @@ impl fmt::Display for TimeViolation {
             }
             TooFast { robot, joint, speed, limit } => write!(
                 f,
-                "robot `{robot}` joint `{joint}` moves at {speed:.4}/s, above its URDF velocity limit {limit:.4}/s"
+                "robot `{robot}` joint `{joint}` moves at {speed:.4}/s, above its limit {limit:.4}/s (URDF `velocity` × \
+                 `speed`)"
             ),
             TooHardAcceleration { robot, joint, acceleration, limit } => write!(
                 f,
-                "robot `{robot}` joint `{joint}` accelerates at {acceleration:.4}/s², above the limit {limit:.4}/s²"
+                "robot `{robot}` joint `{joint}` accelerates at {acceleration:.4}/s², above the limit {limit:.4}/s² \
+                 (`acceleration` × `speed`)"
             ),
             WaypointSkipped { action, phase, index } => write!(
                 f,
