@@ -221,6 +221,7 @@ fn the_block_is_an_obstacle_until_grasped_and_moves_with_the_hand_after() {
         end: 6.0,
         approach: &approach,
         retreat: &retreat,
+        checked: true,
     }];
     // The whole approach sweeps link 3 onto the block: its last segment is the move in, where
     // the grasped object is no obstacle.
@@ -254,6 +255,7 @@ fn the_block_is_an_obstacle_until_grasped_and_moves_with_the_hand_after() {
         end: 6.0,
         approach: &home2,
         retreat: &[],
+        checked: true,
     });
     let (_, v) = replay(&w, &early, &options(3.0, 10.0));
     assert!(

@@ -256,6 +256,7 @@ pub fn naive_timeline<'s>(
             end: t,
             approach: &a.approach,
             retreat: &a.retreat,
+            checked: true,
         });
     }
     let makespan = tracks.iter().filter_map(|t| t.points.last().map(|p| p.t)).fold(0.0, f64::max);

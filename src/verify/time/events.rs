@@ -42,6 +42,9 @@ pub(super) fn check_actions(world: &World, tl: &Timeline, tracks: &[&Track], out
     let mut clear: Vec<(u32, ObjectId, f64)> = Vec::new();
     for a in &tl.actions {
         let Some(tr) = tracks.get(a.robot.index()) else { continue };
+        // An unchecked action reports into a scratch list, so only its carry is kept.
+        let mut quiet = Vec::new();
+        let out: &mut Vec<Violation> = if a.checked { &mut *out } else { &mut quiet };
         if !(a.start >= -TIME_TOLERANCE && a.start <= a.end && a.end <= tl.makespan + TIME_TOLERANCE) {
             let v = TimeViolation::BadInterval { action: a.id, start: a.start, end: a.end };
             out.push(Violation::timed(None, v));
@@ -107,7 +110,7 @@ pub(super) fn check_actions(world: &World, tl: &Timeline, tracks: &[&Track], out
             clear.push((a.id, o, c));
         }
     }
-    for a in &tl.actions {
+    for a in tl.actions.iter().filter(|a| a.checked) {
         for dep in a.after {
             if let Some((by, o, c)) = clear.iter().find(|(id, _, _)| id == dep) {
                 if a.start < c - TIME_TOLERANCE {

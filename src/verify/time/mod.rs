@@ -85,6 +85,9 @@ pub struct TimedAction<'a> {
     pub end: f64,
     pub approach: &'a [Vec<f64>],
     pub retreat: &'a [Vec<f64>],
+    /// False for an action already at fault elsewhere: its events still move its object,
+    /// but its waypoints, events and start are not judged again.
+    pub checked: bool,
 }
 
 /// A timed schedule as the replay reads it.
