@@ -76,10 +76,6 @@ enum Command {
         file: PathBuf,
         /// The schedule to check, as `declutter compile` wrote it (YAML or JSON).
         schedule: PathBuf,
-        /// Demand this distance between every moving thing and what it must not touch
-        /// (e.g. `5mm`); without it, only contact is a violation.
-        #[arg(long, value_name = "LENGTH", value_parser = driver::parse_clearance, default_value = "0")]
-        clearance: f64,
     },
     /// Print the AND/OR precedence graph in Graphviz DOT (exit 2, with the reason, if infeasible).
     ///
@@ -114,9 +110,7 @@ fn main() -> ExitCode {
         Command::Compile { file, seed, objective, format, out, stats } => {
             driver::compile(&file, &global, &driver::CompileOptions { seed, objective, format, out, stats })
         }
-        Command::Verify { file, schedule, clearance } => {
-            driver::verify(&file, &schedule, &global, &driver::VerifyOptions { clearance })
-        }
+        Command::Verify { file, schedule } => driver::verify(&file, &schedule, &global),
         Command::Graph { file, seed, objective } => {
             driver::graph(&file, &global, &driver::GraphOptions { seed, objective })
         }

@@ -9,7 +9,7 @@ mod pipeline;
 mod verify_cmd;
 
 pub use compile::{plan_verified, stats_table, Planned};
-pub use verify_cmd::{parse_clearance, parse_schedule, VerifyOptions};
+pub use verify_cmd::parse_schedule;
 mod front;
 
 pub use commands::{check, compile, graph, resolve, verify};

@@ -58,27 +58,7 @@ pub fn parse_schedule(text: &str) -> Result<Schedule, (String, Option<(u64, u64)
     }
 }
 
-/// Options of `declutter verify`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct VerifyOptions {
-    /// Distance (metres) every moving thing must keep (`--clearance`); 0: no contact.
-    pub clearance: f64,
-}
-
-/// A `--clearance` value: a non-negative length, in `m`, `cm` or `mm` (bare numbers are metres).
-pub fn parse_clearance(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let (number, scale) = [("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)]
-        .iter()
-        .find_map(|(unit, scale)| t.strip_suffix(unit).map(|n| (n.trim(), *scale)))
-        .unwrap_or((t, 1.0));
-    match number.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v * scale),
-        _ => Err(format!("`{text}` is not a length ≥ 0 (examples: 5mm, 0.5cm, 0.005m)")),
-    }
-}
-
-pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions, o: &VerifyOptions) -> u8 {
+pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions) -> u8 {
     let mut loaded = match load(file, g, |_| {}) {
         Ok(l) => l,
         Err(code) => return code,
@@ -98,8 +78,7 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions, o: &VerifyOp
             return fail(&loaded.sources, &[ScheduleReadError::Parse { path, message, span }], g);
         }
     };
-    let opts = verify::Options { clearance: o.clearance };
-    match verify::verify_with(&loaded.world, &schedule, &opts) {
+    match verify::verify(&loaded.world, &schedule) {
         Ok(summary) => {
             eprintln!(
                 "ok: {} verified — {} action{}, {} segments, {} configurations checked",
@@ -119,21 +98,5 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions, o: &VerifyOp
             eprintln!("error: {path} is not valid: {n} violation{}", if n == 1 { "" } else { "s" });
             EXIT_INPUT
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_clearance;
-
-    #[test]
-    fn clearances_in_metres() {
-        assert_eq!(parse_clearance("5mm"), Ok(0.005));
-        assert_eq!(parse_clearance("0.5cm"), Ok(0.005));
-        assert_eq!(parse_clearance("0.005"), Ok(0.005));
-        assert_eq!(parse_clearance("2 m"), Ok(2.0));
-        assert!(parse_clearance("-1mm").is_err());
-        assert!(parse_clearance("5in").is_err());
-        assert!(parse_clearance("NaNmm").is_err());
     }
 }

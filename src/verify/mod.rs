@@ -40,22 +40,8 @@ pub struct Summary {
     pub checks: u64,
 }
 
-/// What `verify` demands beyond the scenario.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Options {
-    /// Distance (metres) every moving thing must keep from what it must not touch; 0
-    /// demands no contact only.
-    pub clearance: f64,
-}
-
 /// Checks a schedule against the world it claims to solve.
 pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violation>> {
-    verify_with(world, schedule, &Options::default())
-}
-
-/// [`verify`] with options.
-pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result<Summary, Vec<Violation>> {
-    let _ = opts.clearance;
     let scn = world.scenario();
     let mut out = Vec::new();
     let mut summary = Summary { actions: schedule.actions.len(), ..Summary::default() };
