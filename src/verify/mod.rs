@@ -13,6 +13,7 @@
 //! object or reach the target configuration; a reach has no grasp and no retreat and
 //! comes last. The schedule must name this scenario and its target.
 
+pub mod time;
 mod violation;
 
 pub use violation::{Location, Phase, Violation, ViolationKind};

@@ -38,6 +38,10 @@ pub enum Location {
         phase: Phase,
         index: usize,
     },
+    /// An instant of the timed schedule (seconds from its start).
+    At {
+        t: f64,
+    },
 }
 
 /// One broken rule.
@@ -138,6 +142,8 @@ pub enum ViolationKind {
     RemovedListMismatch {
         expected: String,
     },
+    /// Found by replaying the schedule in time.
+    Time(super::time::TimeViolation),
 }
 
 impl Violation {
@@ -153,6 +159,11 @@ impl Violation {
     pub fn segment(action: u32, phase: Phase, index: usize, kind: ViolationKind) -> Violation {
         Violation { location: Location::Segment { action, phase, index }, kind }
     }
+    /// Found by the replay in time: at instant `t`, or for the whole schedule when `None`.
+    pub fn timed(t: Option<f64>, v: super::time::TimeViolation) -> Violation {
+        let location = t.map_or(Location::Schedule, |t| Location::At { t });
+        Violation { location, kind: ViolationKind::Time(v) }
+    }
 }
 
 impl fmt::Display for Location {
@@ -164,6 +175,7 @@ impl fmt::Display for Location {
             Location::Segment { action, phase, index } => {
                 write!(f, "action {action}, {phase} segment {index}→{}", index + 1)
             }
+            Location::At { t } => write!(f, "t = {t:.3} s"),
         }
     }
 }
@@ -232,6 +244,7 @@ impl fmt::Display for ViolationKind {
             RemovedListMismatch { expected } => {
                 write!(f, "`removed` does not list the grasped objects in action order ({expected})")
             }
+            Time(v) => v.fmt(f),
         }
     }
 }

@@ -93,6 +93,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             shapes,
             bodies,
             self_pairs: Vec::new(),
+            allowed_pairs: Vec::new(),
             scene: Scene::new(Vec::new()),
             home: Config(home.unwrap_or_default()),
             drop: Config(drop.unwrap_or_default()),
@@ -174,6 +175,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
         allowed.extend(package_allowed[ri].iter().cloned());
         m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
+        m.allowed_pairs = allowed;
     }
 
     let world = World { scenario: scn.clone(), robots, object_parts };

@@ -20,6 +20,7 @@ mod robot;
 mod scene;
 mod shapes;
 mod srdf;
+mod sweep;
 mod urdf;
 
 pub use build::{build, load_kinematics, overlaps, target_collides, RobotKinematics, WorldOptions};
@@ -32,6 +33,7 @@ pub use grasps::{
 };
 pub use labels::{Blocker, Check, ObjectSet};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
+pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 
 use std::ops::{Deref, DerefMut};
 

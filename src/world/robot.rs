@@ -36,6 +36,9 @@ pub(crate) struct RobotModel {
     pub shapes: Vec<RShape>,
     pub bodies: Vec<RBody>,
     pub self_pairs: Vec<(usize, usize)>,
+    /// Link pairs never checked against each other: the scenario's `allow_contact` and the
+    /// robot package's own filters (Drake filter groups, SRDF).
+    pub allowed_pairs: Vec<(String, String)>,
     pub scene: Scene,
     pub home: Config,
     pub drop: Config,

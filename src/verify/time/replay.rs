@@ -1,0 +1,112 @@
+//! The sampling loop: instants chosen so that nothing moves more than the bound
+//! between two of them, and the whole cell checked at each.
+
+use super::events::Marks;
+use super::scene::{Cell, Finding, RobotAt, Scratch};
+use super::track::{peak_speeds, segment_at, state_at};
+use super::{ReplayOptions, TimeViolation, Timeline, Track};
+use crate::resolve::{ObjectId, RobotId};
+use crate::verify::Violation;
+use crate::world::{JointReach, ObjectSet, World};
+
+/// Samples the timeline from 0 to the makespan; returns the number of instants checked.
+/// Each pair of things too close is reported once, at the first instant found.
+pub(super) fn run(
+    world: &World,
+    tl: &Timeline,
+    tracks: &[&Track],
+    marks: &Marks,
+    opts: &ReplayOptions,
+    out: &mut Vec<Violation>,
+) -> u64 {
+    let cell = Cell::new(world, opts.clearance);
+    let reach = reaches(world, tracks, marks);
+    let times = breakpoints(tl, tracks, marks);
+    let n_objects = world.scenario().objects.len();
+    let mut scratch = Scratch::default();
+    let mut state = vec![(Vec::new(), Vec::new()); tracks.len()];
+    let mut found: Vec<Finding> = Vec::new();
+    let mut reported: Vec<(f64, Finding)> = Vec::new();
+    let mut peak = Vec::new();
+    let mut samples = 0u64;
+    let mut sample = |t: f64, samples: &mut u64| {
+        *samples += 1;
+        for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
+            state_at(tr, t, q, qd);
+        }
+        let mut present = ObjectSet::new();
+        for o in 0..n_objects {
+            let o = ObjectId(o as u32);
+            if !marks.carries.iter().any(|c| c.object == o && t >= c.grasp) {
+                present.insert(o);
+            }
+        }
+        let at: Vec<RobotAt> = tracks
+            .iter()
+            .zip(&state)
+            .map(|(tr, (q, _))| RobotAt {
+                q,
+                held: marks
+                    .carries
+                    .iter()
+                    .find(|c| c.robot == tr.robot && t >= c.grasp && t < c.release)
+                    .map(|c| &c.held),
+                exempt: marks
+                    .carries
+                    .iter()
+                    .find(|c| c.robot == tr.robot && t >= c.exempt_from && t < c.grasp)
+                    .map(|c| c.object),
+            })
+            .collect();
+        found.clear();
+        cell.check(&at, &present, &mut scratch, &mut found);
+        for f in found.drain(..) {
+            if !reported.iter().any(|(_, r)| r.0 == f.0 && r.1 == f.1) {
+                reported.push((t, f));
+            }
+        }
+    };
+    for w in times.windows(2) {
+        let (ta, tb) = (w[0], w[1]);
+        // The fastest any point of any robot (or what it may carry) moves on this stretch.
+        let mid = 0.5 * (ta + tb);
+        let mut speed: f64 = 0.0;
+        for (tr, r) in tracks.iter().zip(&reach) {
+            peak_speeds(tr, segment_at(tr, mid), &mut peak);
+            speed = speed.max(JointReach::displacement(r, &peak));
+        }
+        let n = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
+        for i in 0..n {
+            sample(ta + (tb - ta) * i as f64 / n as f64, &mut samples);
+        }
+    }
+    sample(tl.makespan, &mut samples);
+    for (t, (a, b, distance)) in reported {
+        out.push(Violation::timed(Some(t), TimeViolation::Contact { a, b, distance, clearance: opts.clearance }));
+    }
+    samples
+}
+
+/// Per robot, per joint: the reach bound with the largest object the robot ever carries.
+fn reaches(world: &World, tracks: &[&Track], marks: &Marks) -> Vec<Vec<f64>> {
+    tracks
+        .iter()
+        .map(|tr| {
+            let r: RobotId = tr.robot;
+            let radius =
+                marks.carries.iter().filter(|c| c.robot == r).map(|c| world.held_radius(&c.held)).fold(0.0, f64::max);
+            world.joint_reach(r).with_held(radius)
+        })
+        .collect()
+}
+
+/// Every instant where something changes: trajectory points and events, within 0..makespan.
+fn breakpoints(tl: &Timeline, tracks: &[&Track], marks: &Marks) -> Vec<f64> {
+    let mut ts: Vec<f64> = vec![0.0, tl.makespan];
+    ts.extend(tracks.iter().flat_map(|tr| tr.points.iter().map(|p| p.t)));
+    ts.extend(marks.carries.iter().flat_map(|c| [c.exempt_from, c.grasp, c.release]));
+    ts.retain(|t| t.is_finite() && *t >= 0.0 && *t <= tl.makespan);
+    ts.sort_by(f64::total_cmp);
+    ts.dedup();
+    ts
+}

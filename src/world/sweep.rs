@@ -1,0 +1,246 @@
+//! The world model as the time-replaying verifier reads it: every collision shape
+//! posed in the world, the self-collision pairs before any sampled pruning, and how
+//! far a point of a robot can move per unit of joint motion.
+//!
+//! Nothing here is used by the planner; the labelled check ([`super::check`]) stays
+//! its only collision test.
+
+use nalgebra::Isometry3;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Pose as PPose;
+use parry3d_f64::shape::SharedShape;
+
+use super::build::RobotModel;
+use super::chain::Source;
+use super::check::{self, Owner};
+use super::shapes::{aabb_of, to_ppose, Placed};
+use super::urdf::Motion;
+use super::{Held, World};
+use crate::resolve::{FixedId, ObjectId, RobotId};
+
+/// One collision body of a robot: the link it rides on (or the hand).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BodyInfo {
+    pub name: String,
+    /// False for the base and what is rigidly fixed to it.
+    pub moving: bool,
+    /// Rigid with the flange (the hand): a carried object may touch it.
+    pub holds: bool,
+}
+
+/// A robot's collision shape posed in the world frame.
+#[derive(Clone)]
+pub struct PosedShape {
+    /// Index into [`World::bodies`].
+    pub body: usize,
+    pub shape: SharedShape,
+    /// For a primitive, the shape shrunk by [`CONTACT_TOLERANCE`]: two shapes overlap deeper
+    /// than the tolerance exactly when this one meets the other (the world's contact rule).
+    ///
+    /// [`CONTACT_TOLERANCE`]: super::CONTACT_TOLERANCE
+    pub eroded: Option<SharedShape>,
+    pub pose: PPose,
+    pub aabb: Aabb,
+}
+
+/// A part of a carried object, posed in the world frame (`eroded` as for [`PosedShape`]).
+#[derive(Clone)]
+pub struct HeldPart {
+    pub shape: SharedShape,
+    pub eroded: Option<SharedShape>,
+    pub pose: PPose,
+    pub aabb: Aabb,
+}
+
+/// What a static shape of the scene belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StaticOwner {
+    Fixed(FixedId),
+    /// A removable object at its place in the scenario.
+    Object(ObjectId),
+}
+
+/// A fixed body's or an object's shape, posed in the world frame.
+#[derive(Clone)]
+pub struct StaticShape {
+    pub owner: StaticOwner,
+    pub shape: SharedShape,
+    pub pose: PPose,
+    pub aabb: Aabb,
+}
+
+/// Per actuated joint, bounds (metres per unit of joint motion) on how fast a point
+/// moves: a point at distance `d` from a revolute axis turned by `Δθ` moves at most
+/// `d·Δθ`, a sliding joint moves it by its travel. Summed over joints, `Σ reach_j·|Δq_j|`
+/// bounds the displacement of every point, in every configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointReach {
+    /// For the robot's own bodies (links and hand).
+    pub bodies: Vec<f64>,
+    /// For the flange's origin.
+    pub flange: Vec<f64>,
+    /// Σ |mimic multiplier| of the revolute joints this value turns between base and flange:
+    /// a carried object's point at distance `ρ` from the flange origin adds `turn·ρ`.
+    pub turn: Vec<f64>,
+}
+
+impl JointReach {
+    /// The bound per joint for every point of the robot and of an object carried at most
+    /// `held_radius` from the flange origin.
+    pub fn with_held(&self, held_radius: f64) -> Vec<f64> {
+        (0..self.bodies.len()).map(|j| self.bodies[j].max(self.flange[j] + self.turn[j] * held_radius)).collect()
+    }
+    /// The bound on any point's displacement for joint displacements `dq`.
+    pub fn displacement(reach: &[f64], dq: &[f64]) -> f64 {
+        reach.iter().zip(dq).map(|(r, d)| r * d.abs()).sum()
+    }
+}
+
+impl World {
+    /// The robot's collision bodies, indexed as [`PosedShape::body`].
+    pub fn bodies(&self, r: RobotId) -> Vec<BodyInfo> {
+        let m = &self.robots[r.index()];
+        m.bodies.iter().map(|b| BodyInfo { name: b.name.clone(), moving: b.moving, holds: b.holds }).collect()
+    }
+
+    /// Every collision shape of the robot at `q`, in the world frame, written into
+    /// `out`; returns the flange pose. Panics if `q.len()` is not [`World::dof`].
+    pub fn pose_shapes(&self, r: RobotId, q: &[f64], out: &mut Vec<PosedShape>) -> Isometry3<f64> {
+        let m = &self.robots[r.index()];
+        check::assert_dof(m, q);
+        let mut links = vec![Isometry3::identity(); m.chain.links.len()];
+        m.chain.fk_into(q, &mut links);
+        out.clear();
+        for s in &m.shapes {
+            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
+            let aabb = aabb_of(&*s.placed.shape.0, &pose);
+            out.push(PosedShape {
+                body: s.body,
+                shape: s.placed.shape.clone(),
+                eroded: s.placed.eroded.clone(),
+                pose,
+                aabb,
+            });
+        }
+        m.pose_world_base * links[m.chain.flange]
+    }
+
+    /// The fixed bodies and every removable object at its scenario pose.
+    pub fn static_shapes(&self) -> Vec<StaticShape> {
+        // Every robot's scene holds the same fixed bodies and objects; the first is enough.
+        let Some(m) = self.robots.first() else { return Vec::new() };
+        m.scene
+            .entries
+            .iter()
+            .filter_map(|e| {
+                let owner = match e.owner {
+                    Owner::Fixed(f) => StaticOwner::Fixed(f),
+                    Owner::Object(o) => StaticOwner::Object(o),
+                    Owner::Robot(..) => return None,
+                };
+                Some(StaticShape { owner, shape: e.shape.clone(), pose: e.pose, aabb: e.aabb })
+            })
+            .collect()
+    }
+
+    /// The carried object's shapes in the world frame, the flange at `pose_world_flange`.
+    pub fn pose_held(&self, held: &Held, pose_world_flange: &Isometry3<f64>) -> Vec<HeldPart> {
+        let base = to_ppose(&(pose_world_flange * held.pose_flange_object));
+        self.object_parts[held.object.index()]
+            .iter()
+            .map(|p| {
+                let pose = base * p.pose;
+                HeldPart { shape: p.shape.clone(), eroded: p.eroded.clone(), pose, aabb: aabb_of(&*p.shape.0, &pose) }
+            })
+            .collect()
+    }
+
+    /// How far from the flange origin a point of the carried object can be.
+    pub fn held_radius(&self, held: &Held) -> f64 {
+        let base = to_ppose(&held.pose_flange_object);
+        self.object_parts[held.object.index()].iter().map(|p| radius_about_origin(&base, p)).fold(0.0, f64::max)
+    }
+
+    /// Body pairs checked for self-collision with no sampled pruning: every pair with a
+    /// moving body except those rigidly joined, adjacent in the URDF, named in
+    /// `allow_contact`, or excluded by the robot package's own filters (Drake filter
+    /// groups, SRDF).
+    pub fn self_pairs_unpruned(&self, r: RobotId) -> Vec<(usize, usize)> {
+        let m = &self.robots[r.index()];
+        check::self_pairs(m, &m.allowed_pairs, 0, 0)
+    }
+
+    /// See [`JointReach`]: from the URDF's link offsets and each shape's bounding sphere,
+    /// so it holds in every configuration.
+    pub fn joint_reach(&self, r: RobotId) -> JointReach {
+        joint_reach(&self.robots[r.index()])
+    }
+}
+
+/// Distance from the frame's origin to the farthest point of a shape placed in it by `pose`.
+fn radius_about_origin(pose: &PPose, p: &Placed) -> f64 {
+    let sphere = p.shape.0.compute_local_bounding_sphere();
+    (*pose * p.pose).transform_point(sphere.center).length() + sphere.radius
+}
+
+fn joint_reach(m: &RobotModel) -> JointReach {
+    let links = &m.chain.links;
+    let n = links.len();
+    let dof = m.chain.dof();
+    // How far a link's origin can be from its parent's: the fixed offset plus, for a
+    // sliding joint, its travel.
+    let step = |l: usize| -> f64 {
+        let link = &links[l];
+        let offset = link.pose_parent_joint.translation.vector.norm();
+        let travel = match (link.motion, link.source) {
+            (Motion::Slide(_), Source::Active { index, mult, offset: o }) => {
+                let (lo, hi) = m.chain.limits[index];
+                (lo * mult + o).abs().max((hi * mult + o).abs())
+            }
+            (Motion::Slide(_), Source::Frozen(v)) => v.abs(),
+            _ => 0.0,
+        };
+        offset + travel
+    };
+    // Farthest shape point from each link's own origin.
+    let mut own = vec![0.0f64; n];
+    for s in &m.shapes {
+        let l = m.bodies[s.body].link;
+        own[l] = own[l].max(radius_about_origin(&PPose::IDENTITY, &s.placed));
+    }
+    // Farthest point of the subtree below each link, from that link's origin. Parents
+    // come before children, so a reverse pass sees every child first.
+    let mut below = own.clone();
+    for l in (1..n).rev() {
+        if let Some(p) = links[l].parent {
+            below[p] = below[p].max(step(l) + below[l]);
+        }
+    }
+    let mut reach = JointReach { bodies: vec![0.0; dof], flange: vec![0.0; dof], turn: vec![0.0; dof] };
+    // Distance bound from each link's origin down to the flange's origin, on the path.
+    let path = &m.chain.path;
+    for (k, &l) in path.iter().enumerate() {
+        let to_flange: f64 = path[k + 1..].iter().map(|&c| step(c)).sum();
+        if let Source::Active { index, mult, .. } = links[l].source {
+            match links[l].motion {
+                Motion::Rotate(_) => {
+                    reach.flange[index] += mult.abs() * to_flange;
+                    reach.turn[index] += mult.abs();
+                }
+                Motion::Slide(_) => reach.flange[index] += mult.abs(),
+                Motion::Fixed => {}
+            }
+        }
+    }
+    // Every link a joint value drives (mimic followers off the path too) adds its subtree.
+    for (l, link) in links.iter().enumerate() {
+        if let Source::Active { index, mult, .. } = link.source {
+            match link.motion {
+                Motion::Rotate(_) => reach.bodies[index] += mult.abs() * below[l],
+                Motion::Slide(_) => reach.bodies[index] += mult.abs(),
+                Motion::Fixed => {}
+            }
+        }
+    }
+    reach
+}

@@ -1,0 +1,270 @@
+//! An independent dense re-check of a timeline, for tests: uniform time steps from one
+//! global speed bound (not the verifier's per-stretch steps), every pair of robot
+//! shapes and every robot shape against what is in place, by parry's contact depth.
+#![allow(dead_code)]
+
+use declutter::resolve::{ObjectId, RobotId};
+use declutter::verify::time::hermite::Cubic;
+use declutter::verify::time::{EventKind, Timeline, Track};
+use declutter::world::{PosedShape, StaticOwner, World, CONTACT_TOLERANCE};
+use parry3d_f64::bounding_volume::BoundingVolume;
+use parry3d_f64::query;
+
+/// Positions of `tr` at `t`, by the same Hermite rule the schedule format states.
+fn q_at(tr: &Track, t: f64) -> Vec<f64> {
+    let p = &tr.points;
+    let k = p.iter().rposition(|x| x.t <= t).unwrap_or(0).min(p.len().saturating_sub(2));
+    if p.len() < 2 || t <= p[0].t {
+        return p[0].q.clone();
+    }
+    if t >= p[p.len() - 1].t {
+        return p[p.len() - 1].q.clone();
+    }
+    let (a, b) = (&p[k], &p[k + 1]);
+    let h = b.t - a.t;
+    (0..a.q.len()).map(|j| Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).position((t - a.t) / h)).collect()
+}
+
+/// Sample instants: between consecutive trajectory points of any robot, a uniform step
+/// from that stretch's largest joint speeds (read off a 64-step grid of the cubic and
+/// raised 5 %: the velocity is a parabola, whose peak between grid points is barely above
+/// the grid's, 0.03 % for a rest-to-rest move) times each joint's reach, so that no point
+/// moves more than `bound` between samples.
+fn instants(w: &World, tl: &Timeline, bound: f64) -> Vec<f64> {
+    let mut knots: Vec<f64> = tl.tracks.iter().flat_map(|tr| tr.points.iter().map(|p| p.t)).collect();
+    knots.push(0.0);
+    knots.push(tl.makespan);
+    knots.retain(|t| (0.0..=tl.makespan).contains(t));
+    knots.sort_by(f64::total_cmp);
+    knots.dedup();
+    let reach: Vec<Vec<f64>> = tl.tracks.iter().map(|tr| w.joint_reach(tr.robot).with_held(0.5)).collect();
+    let mut out = Vec::new();
+    for k in knots.windows(2) {
+        let (a, b) = (k[0], k[1]);
+        let mut speed: f64 = 0.0;
+        for (tr, reach) in tl.tracks.iter().zip(&reach) {
+            // The segment of this track covering the stretch.
+            let Some(i) = tr.points.windows(2).position(|p| p[0].t <= a && b <= p[1].t) else { continue };
+            let (p, q) = (&tr.points[i], &tr.points[i + 1]);
+            let h = q.t - p.t;
+            let v: f64 = (0..p.q.len())
+                .map(|j| {
+                    let c = Cubic::new(h, p.q[j], p.qd[j], q.q[j], q.qd[j]);
+                    let peak = (0..=64).map(|m| c.velocity(m as f64 / 64.0).abs()).fold(0.0, f64::max);
+                    1.05 * peak * reach[j]
+                })
+                .sum();
+            speed = speed.max(v);
+        }
+        let n = ((speed * (b - a) / bound).ceil() as usize).max(1);
+        out.extend((0..n).map(|i| a + (b - a) * i as f64 / n as f64));
+    }
+    out.push(tl.makespan);
+    out
+}
+
+/// Overlapping deeper than the contact tolerance, by the world's rule: a primitive shrunk
+/// by the tolerance meets the other shape; two meshes by parry's contact depth.
+fn deep(a: &PosedShape, b: &PosedShape) -> bool {
+    if !a.aabb.intersects(&b.aabb) {
+        return false;
+    }
+    match (&a.eroded, &b.eroded) {
+        (Some(e), _) => query::intersection_test(&a.pose, &*e.0, &b.pose, &*b.shape.0).map_or(true, |i| i.intersecting),
+        (None, Some(e)) => {
+            query::intersection_test(&b.pose, &*e.0, &a.pose, &*a.shape.0).map_or(true, |i| i.intersecting)
+        }
+        (None, None) => {
+            matches!(query::contact(&a.pose, &*a.shape.0, &b.pose, &*b.shape.0, 0.0), Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE)
+        }
+    }
+}
+
+/// Contacts between robots, and between robots and fixed bodies or objects not yet
+/// grasped (the grasping robot's hand excepted from the grasp on), sampled so that no
+/// point moves more than `bound` between samples. Returns (t, description) of each.
+pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)> {
+    let statics = w.static_shapes();
+    let mut out = Vec::new();
+    let mut posed: Vec<Vec<PosedShape>> = vec![Vec::new(); tl.tracks.len()];
+    let grasped =
+        |o: ObjectId, t: f64| tl.events.iter().any(|e| e.kind == EventKind::Grasp && e.object == o && e.t <= t);
+    // The robot that grasps an object may touch it from its approach's last waypoint on.
+    let grasper = |o: ObjectId| tl.actions.iter().find(|a| a.object == Some(o)).map(|a| a.robot);
+    // Each grasp: who holds what from when to when, and the object's pose in the hand.
+    let carries: Vec<_> = tl
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Grasp)
+        .filter_map(|g| {
+            let tr = tl.tracks.iter().find(|t| t.robot == g.robot)?;
+            let release = tl
+                .events
+                .iter()
+                .find(|e| e.kind == EventKind::Release && e.object == g.object && e.t >= g.t)
+                .map_or(f64::INFINITY, |e| e.t);
+            Some((g.robot, g.t, release, w.held(g.robot, g.object, &q_at(tr, g.t))))
+        })
+        .collect();
+    for t in instants(w, tl, bound) {
+        for (k, tr) in tl.tracks.iter().enumerate() {
+            let flange = w.pose_shapes(tr.robot, &q_at(tr, t), &mut posed[k]);
+            // A carried object rides along as one more shape of its robot, a body of its own.
+            for (r, from, to, held) in &carries {
+                if *r == tr.robot && t >= *from && t < *to {
+                    for p in w.pose_held(held, &flange) {
+                        posed[k].push(PosedShape {
+                            body: usize::MAX,
+                            shape: p.shape,
+                            eroded: p.eroded,
+                            pose: p.pose,
+                            aabb: p.aabb,
+                        });
+                    }
+                }
+            }
+        }
+        for (k, tr) in tl.tracks.iter().enumerate() {
+            let bodies = w.bodies(tr.robot);
+            let name = |b: usize| bodies.get(b).map_or("(carried)", |x| x.name.as_str()).to_string();
+            for a in posed[k].iter().filter(|a| a.body == usize::MAX || bodies[a.body].moving) {
+                if a.body == usize::MAX {
+                    // Carried objects are checked against the other robots only: they rest on
+                    // the scene when grasped.
+                    continue;
+                }
+                for s in &statics {
+                    if let StaticOwner::Object(o) = s.owner {
+                        if grasped(o, t) || grasper(o) == Some(tr.robot) {
+                            continue;
+                        }
+                    }
+                    let fixed = PosedShape {
+                        body: usize::MAX,
+                        shape: s.shape.clone(),
+                        eroded: None,
+                        pose: s.pose,
+                        aabb: s.aabb,
+                    };
+                    let hit = deep(a, &fixed);
+                    if hit {
+                        out.push((t, format!("robot {} body {} hits {:?}", tr.robot.0, name(a.body), s.owner)));
+                    }
+                }
+            }
+            for (l, other) in tl.tracks.iter().enumerate().skip(k + 1) {
+                let ob = w.bodies(other.robot);
+                let other_name = |b: usize| ob.get(b).map_or("(carried)", |x| x.name.as_str()).to_string();
+                let moving = |b: usize, list: &[declutter::world::BodyInfo]| list.get(b).is_none_or(|x| x.moving);
+                for a in &posed[k] {
+                    for b in &posed[l] {
+                        if (moving(a.body, &bodies) || moving(b.body, &ob)) && deep(a, b) {
+                            out.push((
+                                t,
+                                format!(
+                                    "robot {} body {} hits robot {} body {}",
+                                    tr.robot.0,
+                                    name(a.body),
+                                    other.robot.0,
+                                    other_name(b.body)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The robot ids of a timeline's tracks, for messages.
+pub fn robots(tl: &Timeline) -> Vec<RobotId> {
+    tl.tracks.iter().map(|t| t.robot).collect()
+}
+
+/// Every waypoint of an action, in order: the approach, then the retreat after the grasp.
+fn waypoints(a: &declutter::schedule::ScheduledAction) -> Vec<&Vec<f64>> {
+    a.approach.iter().chain(a.retreat.iter().skip(1)).collect()
+}
+
+/// A stand-in for the timing stage, for tests only: each segment a rest-to-rest cubic, as
+/// short as `velocity` (every joint) and `acceleration` allow. `together`: every robot
+/// runs its own actions back to back from t = 0; else one action at a time, in id order.
+pub fn naive_timeline<'s>(
+    w: &World,
+    s: &'s declutter::schedule::Schedule,
+    velocity: f64,
+    acceleration: f64,
+    together: bool,
+) -> Timeline<'s> {
+    use declutter::verify::time::{Event, TimedAction, TimedPoint};
+    let scn = w.scenario();
+    let n = scn.robots.len();
+    let mut tracks: Vec<Track> = (0..n)
+        .map(|r| {
+            let robot = RobotId(r as u32);
+            Track { robot, points: vec![TimedPoint { t: 0.0, q: w.home(robot).to_vec(), qd: vec![0.0; w.dof(robot)] }] }
+        })
+        .collect();
+    let mut events = Vec::new();
+    let mut actions = Vec::new();
+    let mut clock = 0.0f64;
+    for a in &s.actions {
+        let r = scn.robot_by_name(&a.robot).expect("known robot");
+        let tr = &mut tracks[r.index()];
+        let dof = w.dof(r);
+        let start = if together { tr.points.last().map_or(0.0, |p| p.t) } else { clock };
+        let mut t = start;
+        if start > tr.points.last().map_or(0.0, |p| p.t) {
+            tr.points.push(TimedPoint { t, q: a.approach[0].clone(), qd: vec![0.0; dof] });
+        }
+        let wps = waypoints(a);
+        let object = a.object.as_deref().and_then(|o| scn.object_by_name(o));
+        let drop = w.drop_config(r).to_vec();
+        let mut released = false;
+        for (k, pair) in wps.windows(2).enumerate() {
+            let h = pair[0]
+                .iter()
+                .zip(pair[1])
+                .map(|(x, y)| {
+                    let d = (y - x).abs();
+                    (1.5 * d / velocity).max((6.0 * d / acceleration).sqrt())
+                })
+                .fold(1e-3, f64::max);
+            t += h;
+            tr.points.push(TimedPoint { t, q: pair[1].clone(), qd: vec![0.0; dof] });
+            if let Some(o) = object {
+                if k + 2 == a.approach.len() {
+                    events.push(Event { t, robot: r, kind: EventKind::Grasp, object: o });
+                } else if k + 2 > a.approach.len()
+                    && !released
+                    && pair[1].iter().zip(&drop).all(|(x, y)| (x - y).abs() < 1e-9)
+                {
+                    released = true;
+                    events.push(Event { t, robot: r, kind: EventKind::Release, object: o });
+                }
+            }
+        }
+        clock = t;
+        actions.push(TimedAction {
+            id: a.id,
+            robot: r,
+            object,
+            after: &a.after,
+            start,
+            end: t,
+            approach: &a.approach,
+            retreat: &a.retreat,
+            checked: true,
+        });
+    }
+    let makespan = tracks.iter().filter_map(|t| t.points.last().map(|p| p.t)).fold(0.0, f64::max);
+    for tr in &mut tracks {
+        let last = tr.points.last().cloned().expect("a start point");
+        if last.t < makespan {
+            tr.points.push(TimedPoint { t: makespan, ..last });
+        }
+    }
+    Timeline { makespan, tracks, events, actions }
+}
