@@ -308,6 +308,8 @@ fn object_pose(world: &World, timeline: &Timeline, o: ObjectId, t: f64, qs: &[Ve
 fn violation(world: &World, timeline: &Timeline, v: &Violation) -> ViolationData {
     let (action, t) = match &v.location {
         Location::Schedule => (None, None),
+        // An instant of a timed replay: the action running then.
+        Location::At { t } => (timeline.actions.iter().find(|a| a.start <= *t && *t <= a.end).map(|a| a.id), Some(*t)),
         Location::Action(id) => (Some(*id), timeline.actions.iter().find(|a| a.id == *id).map(|a| a.start)),
         Location::Waypoint { action, phase, index } => {
             let span = timeline.actions.iter().find(|a| a.id == *action);

@@ -10,9 +10,10 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::shape::SharedShape;
 
-use super::build::RobotModel;
 use super::chain::Source;
-use super::check::{self, Owner};
+use super::check;
+use super::robot::RobotModel;
+use super::scene::Owner;
 use super::shapes::{aabb_of, to_ppose, Placed};
 use super::urdf::Motion;
 use super::{Held, World};
@@ -107,7 +108,7 @@ impl World {
     /// `out`; returns the flange pose. Panics if `q.len()` is not [`World::dof`].
     pub fn pose_shapes(&self, r: RobotId, q: &[f64], out: &mut Vec<PosedShape>) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
-        check::assert_dof(m, q);
+        super::robot::assert_dof(m, q);
         let mut links = vec![Isometry3::identity(); m.chain.links.len()];
         m.chain.fk_into(q, &mut links);
         out.clear();
