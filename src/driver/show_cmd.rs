@@ -6,7 +6,7 @@ use std::path::Path;
 use miette::Diagnostic;
 
 use super::pipeline::{fail, load};
-use super::verify_cmd::{offset_of, parse_schedule, ScheduleReadError};
+use super::verify_cmd::read_schedule;
 use super::{GlobalOptions, ShowOptions, EXIT_INPUT, EXIT_OK};
 use crate::diag::{Located, Span};
 use crate::verify::{self, ViolationKind};
@@ -35,19 +35,9 @@ pub fn show(file: &Path, g: &GlobalOptions, o: &ShowOptions) -> u8 {
     let mut violations = Vec::new();
     if let Some(schedule_path) = &o.schedule {
         let path = schedule_path.display().to_string();
-        let text = match std::fs::read_to_string(schedule_path) {
-            Ok(t) => t,
-            Err(e) => {
-                return fail(&loaded.sources, &[ScheduleReadError::Read { path, reason: e.to_string() }], g);
-            }
-        };
-        let parsed = match parse_schedule(&text) {
+        let parsed = match read_schedule(schedule_path, &mut loaded.sources) {
             Ok(s) => s,
-            Err((message, at)) => {
-                let file_id = loaded.sources.add(path.clone(), schedule_path, text.clone());
-                let span = at.and_then(|(l, c)| offset_of(&text, l, c)).map(|o| Span::new(file_id, o, o + 1));
-                return fail(&loaded.sources, &[ScheduleReadError::Parse { path, message, span }], g);
-            }
+            Err(e) => return fail(&loaded.sources, &[e], g),
         };
         if let Err(found) = verify::verify(&loaded.world, &parsed) {
             // A schedule of another scenario or target would be drawn in the wrong cell.

@@ -6,7 +6,7 @@ use miette::Diagnostic;
 
 use super::pipeline::{fail, load};
 use super::{GlobalOptions, EXIT_INPUT, EXIT_OK};
-use crate::diag::{Located, Span};
+use crate::diag::{Located, SourceMap, Span};
 use crate::schedule::Schedule;
 use crate::verify;
 
@@ -38,12 +38,17 @@ impl Located for ScheduleReadError {
     }
 }
 
-/// Byte offset of a 1-based line and column.
-pub(super) fn offset_of(text: &str, line: u64, column: u64) -> Option<usize> {
-    let start: usize = text.split_inclusive('\n').take(line.checked_sub(1)? as usize).map(str::len).sum();
-    let line_text = text.get(start..)?.split('\n').next()?;
-    let col: usize = line_text.chars().take(column.saturating_sub(1) as usize).map(char::len_utf8).sum();
-    Some(start + col)
+/// Reads and parses a schedule file; a parse error points into the text, which is added
+/// to `sources` for the report.
+pub(super) fn read_schedule(schedule_path: &Path, sources: &mut SourceMap) -> Result<Schedule, ScheduleReadError> {
+    let path = schedule_path.display().to_string();
+    let text = std::fs::read_to_string(schedule_path)
+        .map_err(|e| ScheduleReadError::Read { path: path.clone(), reason: e.to_string() })?;
+    parse_schedule(&text).map_err(|(message, at)| {
+        let file_id = sources.add(path.clone(), schedule_path, text.clone());
+        let span = at.and_then(|(l, c)| sources.offset_of(file_id, l, c)).map(|o| Span::new(file_id, o, o + 1));
+        ScheduleReadError::Parse { path, message, span }
+    })
 }
 
 /// Parses a schedule as JSON when it looks like JSON, else as YAML.
@@ -64,19 +69,9 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions) -> u8 {
         Err(code) => return code,
     };
     let path = schedule_path.display().to_string();
-    let text = match std::fs::read_to_string(schedule_path) {
-        Ok(t) => t,
-        Err(e) => {
-            return fail(&loaded.sources, &[ScheduleReadError::Read { path, reason: e.to_string() }], g);
-        }
-    };
-    let schedule = match parse_schedule(&text) {
+    let schedule = match read_schedule(schedule_path, &mut loaded.sources) {
         Ok(s) => s,
-        Err((message, at)) => {
-            let file_id = loaded.sources.add(path.clone(), schedule_path, text.clone());
-            let span = at.and_then(|(l, c)| offset_of(&text, l, c)).map(|o| Span::new(file_id, o, o + 1));
-            return fail(&loaded.sources, &[ScheduleReadError::Parse { path, message, span }], g);
-        }
+        Err(e) => return fail(&loaded.sources, &[e], g),
     };
     match verify::verify(&loaded.world, &schedule) {
         Ok(summary) => {
