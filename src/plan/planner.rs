@@ -50,7 +50,7 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
-    fn check_segment_fine(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
+    fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
         let c = ctx(mode);
         let out = self.world.check_motion(self.robot, a, b, resolution, &c);
         *checks += c.count();

@@ -30,7 +30,7 @@ pub trait Space: Sync {
     }
     /// The certifying check of a segment: the samples of `check_segment` at `resolution`
     /// and more between them (for a world robot, exactly those `verify` takes).
-    fn check_segment_fine(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
+    fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
         self.check_segment(a, b, resolution / 4.0, mode, checks)
     }
     fn home(&self) -> &[f64];

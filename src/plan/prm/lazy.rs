@@ -20,7 +20,7 @@ impl<S: Space> RobotPlanner<S> {
         let res = self.settings.resolution;
         let seg = |a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64| {
             if fine {
-                self.space.check_segment_fine(a, b, res, mode, checks)
+                self.space.check_motion(a, b, res, mode, checks)
             } else {
                 self.space.check_segment(a, b, res, mode, checks)
             }
