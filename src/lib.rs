@@ -18,5 +18,6 @@ pub mod resolve;
 pub mod schedule;
 pub mod show;
 pub mod syntax;
+pub mod timing;
 pub mod verify;
 pub mod world;

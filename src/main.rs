@@ -7,6 +7,7 @@ use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 
 use declutter::driver::{self, Format, GlobalOptions, Meshes};
+use declutter::timing::Execution;
 
 #[derive(Parser)]
 #[command(
@@ -67,9 +68,12 @@ enum Command {
         /// Write the schedule here instead of stdout.
         #[arg(long, short)]
         out: Option<PathBuf>,
-        /// Print per-query statistics (the paper's Table 1) to stderr.
+        /// Print per-query statistics (the paper's Table 1) and both makespans to stderr.
         #[arg(long)]
         stats: bool,
+        /// Run the robots at the same time where safe, or one action after another.
+        #[arg(long, value_parser = ["concurrent", "sequential"], default_value = "concurrent")]
+        execution: String,
     },
     /// Independently re-check a schedule against its scenario.
     ///
@@ -79,6 +83,10 @@ enum Command {
         file: PathBuf,
         /// The schedule to check, as `declutter compile` wrote it (YAML or JSON).
         schedule: PathBuf,
+        /// Demand this distance between every moving thing and what it must not touch
+        /// (e.g. `5mm`); without it, only contact is a violation.
+        #[arg(long, value_name = "LENGTH", value_parser = driver::parse_clearance, default_value = "0")]
+        clearance: f64,
     },
     /// Write a scenario from another tool's scene description.
     #[command(subcommand)]
@@ -152,10 +160,13 @@ fn main() -> ExitCode {
     let code = match cli.command {
         Command::Check { file } => driver::check(&file, &global),
         Command::Resolve { file } => driver::resolve(&file, &global),
-        Command::Compile { file, seed, objective, format, out, stats } => {
-            driver::compile(&file, &global, &driver::CompileOptions { seed, objective, format, out, stats })
+        Command::Compile { file, seed, objective, format, out, stats, execution } => {
+            let execution = if execution == "sequential" { Execution::Sequential } else { Execution::Concurrent };
+            driver::compile(&file, &global, &driver::CompileOptions { seed, objective, format, out, stats, execution })
         }
-        Command::Verify { file, schedule } => driver::verify(&file, &schedule, &global),
+        Command::Verify { file, schedule, clearance } => {
+            driver::verify(&file, &schedule, &global, &driver::VerifyOptions { clearance })
+        }
         Command::Import(ImportCommand::Moveit { scene, request, cell, removable, out }) => {
             driver::import_moveit(&driver::ImportOptions { scene, request, cell, removable, out }, &global)
         }

@@ -90,8 +90,11 @@ fn verify_exits_1_with_the_violation_on_a_tampered_schedule() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let text = std::fs::read_to_string(&file).expect("schedule written");
     let mut s = parse_schedule(&text).expect("the schedule reads back");
-    // Shoulder far forward, elbow stretched: the arm lies on the table.
-    s.actions[0].approach.insert(1, vec![0.0, 2.2, 0.3, 0.0, 0.0, 0.0]);
+    // Shoulder far forward, elbow stretched: the arm lies on the table, on the way.
+    let robot = s.actions[0].robot.clone();
+    let tr = s.trajectories.iter_mut().find(|t| t.robot == robot).expect("its trajectory");
+    let moving = tr.points.iter().position(|p| p.qd.iter().any(|v| *v != 0.0)).expect("a moving point");
+    tr.points[moving].q = vec![0.0, 2.2, 0.3, 0.0, 0.0, 0.0];
     std::fs::write(&file, schedule::to_yaml(&s).expect("YAML")).expect("tampered schedule written");
     let o = run(&["verify", "examples/box_lid.dcl", &file]);
     assert_eq!(code(&o), 1);

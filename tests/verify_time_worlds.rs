@@ -1,8 +1,8 @@
 //! A property over random two-arm tabletop worlds (the shipped dual-TX-90 cell, a target
-//! can with side grasps ringed by 2–4 cans with top grasps), their planned schedules timed
-//! one action at a time by a stand-in for the timing stage: wherever the replay finds no
-//! contact, an independent dense re-check at a quarter of the verifier's sampling bound
-//! finds none either.
+//! can with side grasps ringed by 2–4 cans with top grasps), compiled as `compile` does
+//! (concurrent execution): every solved schedule verifies, also read back from YAML, and
+//! an independent dense re-check at a quarter of the verifier's sampling bound finds no
+//! contact.
 
 mod time_support;
 
@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::schedule::Status;
-use declutter::verify::time::{replay, RateLimits, ReplayOptions, TimeViolation, SAMPLE_BOUND};
+use declutter::verify::time::SAMPLE_BOUND;
 use declutter::world::{self, WorldOptions};
 use proptest::prelude::*;
 use rand::{RngExt, SeedableRng};
@@ -73,29 +73,29 @@ proptest! {
         let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("world builds");
         let planned = match declutter::driver::plan_verified(&w, &|_| {}) {
             Ok(p) => p,
-            Err(v) => return Err(TestCaseError::fail(format!("seed {seed}: {v:?}"))),
+            // The planner certifies its paths at a quarter of `resolution` (up to ~9 mm of
+            // travel at the hand), the replay at 2 mm: a carried can grazing a neighbour
+            // between the planner's samples makes `compile` refuse the scene after its
+            // refinements (seed 230081 is one) rather than write an unverified schedule. Only
+            // contacts may be the reason.
+            Err(v) => {
+                let contacts = v.iter().all(|v| {
+                    matches!(v.kind, declutter::verify::ViolationKind::Time(declutter::verify::time::TimeViolation::Contact { .. }))
+                });
+                prop_assert!(contacts, "seed {seed}: {v:#?}");
+                return Ok(());
+            }
         };
         if planned.schedule.status != Status::Solved {
             return Ok(());
         }
         let s = &planned.schedule;
-        let tl = time_support::naive_timeline(&w, s, 1.0, 3.0, false);
-        let velocity = (0..scn.robots.len()).map(|r| vec![1.0; w.dof(declutter::resolve::RobotId(r as u32))]).collect();
-        let opts = ReplayOptions { bound: SAMPLE_BOUND, clearance: 0.0, limits: RateLimits { velocity, acceleration: 3.0 } };
-        let (_, v) = replay(&w, &tl, &opts);
-        // Until the planner's own check samples as finely as the replay (it certifies at a
-        // quarter of `resolution`, up to ~9 mm of travel at the hand), a carried can may graze
-        // a neighbour between its samples; the replay reports that (seed 440014: `o3` over
-        // `o0`, confirmed by the world's own check at 2000 samples per segment). What must
-        // hold for every world: a timeline the replay passes, the dense re-check passes too.
-        if v.is_empty() {
-            let dense = time_support::dense_contacts(&w, &tl, SAMPLE_BOUND / 4.0);
-            prop_assert!(dense.is_empty(), "seed {seed}: the replay passed, the dense re-check found {dense:?}");
-        } else {
-            prop_assert!(
-                v.iter().all(|v| matches!(v.kind, declutter::verify::ViolationKind::Time(TimeViolation::Contact { .. }))),
-                "seed {seed}: {v:#?}"
-            );
-        }
+        // The compiler only writes a schedule that verified; read back, it verifies again.
+        let back: declutter::schedule::Schedule = declutter::driver::parse_schedule(&declutter::schedule::to_yaml(s).expect("yaml")).expect("reads back");
+        prop_assert!(declutter::verify::verify(&w, &back).is_ok(), "seed {seed}: {:#?}", declutter::verify::verify(&w, &back).err());
+        let mut out = Vec::new();
+        let tl = declutter::verify::time::from_schedule::timeline(&w, s, &mut out).expect("names resolve");
+        let dense = time_support::dense_contacts(&w, &tl, SAMPLE_BOUND / 4.0);
+        prop_assert!(dense.is_empty(), "seed {seed}: the dense re-check found {dense:?}");
     }
 }

@@ -13,8 +13,8 @@ pub fn resolve(file: &Path, g: &GlobalOptions) -> u8 {
 pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
     super::compile::compile(file, g, o)
 }
-pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions) -> u8 {
-    super::verify_cmd::verify(file, schedule, g)
+pub fn verify(file: &Path, schedule: &Path, g: &GlobalOptions, o: &super::VerifyOptions) -> u8 {
+    super::verify_cmd::verify(file, schedule, g, o)
 }
 pub fn graph(file: &Path, g: &GlobalOptions, o: &GraphOptions) -> u8 {
     super::compile::graph(file, g, o)

@@ -10,6 +10,7 @@ use crate::plan::andor::{self, Solution};
 use crate::plan::Planner;
 use crate::resolve::Objective;
 use crate::schedule::{self, QueryStat, Schedule, Status};
+use crate::timing::Execution;
 use crate::verify;
 use crate::world::World;
 
@@ -19,6 +20,7 @@ fn plan(
     g: &GlobalOptions,
     seed: Option<u64>,
     objective: Option<Objective>,
+    execution: Execution,
 ) -> Result<(Loaded, Planned), u8> {
     let loaded = load(file, g, |scn| {
         if let Some(s) = seed {
@@ -37,7 +39,7 @@ fn plan(
         bar.enable_steady_tick(std::time::Duration::from_millis(120));
         bar
     });
-    let result = plan_verified(&loaded.world, &|phase| {
+    let result = plan_verified_with(&loaded.world, execution, &|phase| {
         if let Some(bar) = &spinner {
             bar.set_message(phase.to_string());
         }
@@ -89,6 +91,15 @@ const MAX_REFINEMENTS: u32 = 2;
 /// of `compile` between loading and writing.
 /// `progress` is told each phase as it starts.
 pub fn plan_verified(world: &World, progress: &dyn Fn(&str)) -> Result<Planned, Vec<verify::Violation>> {
+    plan_verified_with(world, Execution::default(), progress)
+}
+
+/// [`plan_verified`] with the actions placed in time by `execution`.
+pub fn plan_verified_with(
+    world: &World,
+    execution: Execution,
+    progress: &dyn Fn(&str),
+) -> Result<Planned, Vec<verify::Violation>> {
     let scn = world.scenario();
     let mut refinements = 0;
     loop {
@@ -97,7 +108,7 @@ pub fn plan_verified(world: &World, progress: &dyn Fn(&str)) -> Result<Planned, 
         progress(&format!("planning at resolution {:.3}°", settings.resolution.to_degrees()));
         let planner = Planner::new(world, &settings);
         let solution = andor::solve(scn, &planner);
-        let schedule = schedule::build(scn, &solution);
+        let schedule = schedule::build(world, &solution, execution);
         if schedule.status != Status::Solved {
             return Ok(Planned { solution, schedule, refinements });
         }
@@ -165,12 +176,25 @@ pub(super) fn temp_path(path: &Path) -> std::path::PathBuf {
 pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
     // The promise is a verified schedule: `plan` re-checks a solved one before it is written.
     let (loaded, Planned { solution, schedule, .. }) =
-        match plan(file, g, o.seed, parse_objective(o.objective.as_deref())) {
+        match plan(file, g, o.seed, parse_objective(o.objective.as_deref()), o.execution) {
             Ok(x) => x,
             Err(code) => return code,
         };
     if o.stats {
         eprint!("{}", stats_table(&schedule.stats));
+        if schedule.status == Status::Solved {
+            // The other execution's makespan, timed from the same plan.
+            let other = match o.execution {
+                Execution::Sequential => Execution::Concurrent,
+                Execution::Concurrent => Execution::Sequential,
+            };
+            let other = schedule::build(&loaded.world, &solution, other);
+            let (seq, conc) = match o.execution {
+                Execution::Sequential => (schedule.makespan, other.makespan),
+                Execution::Concurrent => (other.makespan, schedule.makespan),
+            };
+            eprintln!("makespan: sequential {seq:.3} s, concurrent {conc:.3} s");
+        }
     }
     let text = match o.format {
         Format::Yaml => schedule::to_yaml(&schedule),
@@ -197,7 +221,7 @@ pub fn compile(file: &Path, g: &GlobalOptions, o: &CompileOptions) -> u8 {
 /// `declutter graph`: G in DOT on stdout, also for an infeasible scenario (it shows
 /// why), which then reports the reason and exits 2 like `compile`.
 pub fn graph(file: &Path, g: &GlobalOptions, o: &GraphOptions) -> u8 {
-    let (loaded, planned) = match plan(file, g, o.seed, parse_objective(o.objective.as_deref())) {
+    let (loaded, planned) = match plan(file, g, o.seed, parse_objective(o.objective.as_deref()), Execution::default()) {
         Ok(x) => x,
         Err(code) => return code,
     };

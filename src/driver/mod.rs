@@ -11,8 +11,8 @@ mod pipeline;
 mod show_cmd;
 mod verify_cmd;
 
-pub use compile::{plan_verified, stats_table, Planned};
-pub use verify_cmd::parse_schedule;
+pub use compile::{plan_verified, plan_verified_with, stats_table, Planned};
+pub use verify_cmd::{parse_clearance, parse_schedule, VerifyOptions};
 mod front;
 
 pub use commands::{check, compile, graph, resolve, show, verify};
@@ -78,6 +78,7 @@ pub struct CompileOptions {
     pub format: Format,
     pub out: Option<PathBuf>,
     pub stats: bool,
+    pub execution: crate::timing::Execution,
 }
 
 /// Options of `declutter graph`: the planning overrides of `compile`, so it draws the

@@ -7,7 +7,7 @@ use miette::Diagnostic;
 use super::pipeline::{fail, load};
 use super::{GlobalOptions, EXIT_INPUT, EXIT_OK};
 use crate::diag::{Located, SourceMap, Span};
-use crate::schedule::Schedule;
+use crate::schedule::{Schedule, SCHEDULE_VERSION};
 use crate::verify;
 
 /// A schedule file that cannot be read as a schedule.
@@ -27,12 +27,18 @@ pub enum ScheduleReadError {
         #[label("here")]
         span: Option<Span>,
     },
+    #[error("`{path}` is a schedule of format version {found}; this declutter reads version {expected}")]
+    #[diagnostic(
+        code(declutter::verify::version),
+        help("compile the scenario again with this declutter to get a version {expected} schedule")
+    )]
+    Version { path: String, found: String, expected: u32 },
 }
 
 impl Located for ScheduleReadError {
     fn primary_span(&self) -> Option<Span> {
         match self {
-            ScheduleReadError::Read { .. } => None,
+            ScheduleReadError::Read { .. } | ScheduleReadError::Version { .. } => None,
             ScheduleReadError::Parse { span, .. } => *span,
         }
     }
@@ -44,11 +50,35 @@ pub(super) fn read_schedule(schedule_path: &Path, sources: &mut SourceMap) -> Re
     let path = schedule_path.display().to_string();
     let text = std::fs::read_to_string(schedule_path)
         .map_err(|e| ScheduleReadError::Read { path: path.clone(), reason: e.to_string() })?;
+    if let Some(found) = foreign_version(&text) {
+        return Err(ScheduleReadError::Version { path, found, expected: SCHEDULE_VERSION });
+    }
     parse_schedule(&text).map_err(|(message, at)| {
         let file_id = sources.add(path.clone(), schedule_path, text.clone());
         let span = at.and_then(|(l, c)| sources.offset_of(file_id, l, c)).map(|o| Span::new(file_id, o, o + 1));
         ScheduleReadError::Parse { path, message, span }
     })
+}
+
+/// The `schedule_version` a text declares, read leniently (any other keys ignored), so
+/// a schedule of another version is named as such rather than failing on its keys.
+/// `None` when the text declares the supported version, or is not a mapping at all
+/// (then the full parse reports what is wrong).
+pub fn foreign_version(text: &str) -> Option<String> {
+    #[derive(serde::Deserialize)]
+    struct Probe {
+        schedule_version: Option<serde_json::Value>,
+    }
+    let probe: Probe = if text.trim_start().starts_with('{') {
+        serde_json::from_str(text).ok()?
+    } else {
+        serde_saphyr::from_str(text).ok()?
+    };
+    match probe.schedule_version {
+        Some(serde_json::Value::Number(n)) if n.as_u64() == Some(u64::from(SCHEDULE_VERSION)) => None,
+        Some(v) => Some(v.to_string()),
+        None => Some("1 (no `schedule_version` key)".to_string()),
+    }
 }
 
 /// Parses a schedule as JSON when it looks like JSON, else as YAML.
@@ -63,7 +93,27 @@ pub fn parse_schedule(text: &str) -> Result<Schedule, (String, Option<(u64, u64)
     }
 }
 
-pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions) -> u8 {
+/// Options of `declutter verify`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VerifyOptions {
+    /// Distance (metres) every moving thing must keep (`--clearance`); 0: no contact.
+    pub clearance: f64,
+}
+
+/// A `--clearance` value: a non-negative length, in `m`, `cm` or `mm` (bare numbers are metres).
+pub fn parse_clearance(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, scale) = [("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)]
+        .iter()
+        .find_map(|(unit, scale)| t.strip_suffix(unit).map(|n| (n.trim(), *scale)))
+        .unwrap_or((t, 1.0));
+    match number.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v * scale),
+        _ => Err(format!("`{text}` is not a length ≥ 0 (examples: 5mm, 0.5cm, 0.005m)")),
+    }
+}
+
+pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions, o: &VerifyOptions) -> u8 {
     let mut loaded = match load(file, g, |_| {}) {
         Ok(l) => l,
         Err(code) => return code,
@@ -73,15 +123,17 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions) -> u8 {
         Ok(s) => s,
         Err(e) => return fail(&loaded.sources, &[e], g),
     };
-    match verify::verify(&loaded.world, &schedule) {
+    let opts = verify::Options { clearance: o.clearance };
+    match verify::verify_with(&loaded.world, &schedule, &opts) {
         Ok(summary) => {
             eprintln!(
-                "ok: {} verified — {} action{}, {} segments, {} configurations checked",
+                "ok: {} verified — {} action{}, {:.3} s replayed at {} instants (no point moved more than {} mm between them)",
                 path,
                 summary.actions,
                 if summary.actions == 1 { "" } else { "s" },
-                summary.segments,
-                summary.checks
+                summary.makespan,
+                summary.samples,
+                verify::time::SAMPLE_BOUND * 1e3
             );
             EXIT_OK
         }
@@ -93,5 +145,21 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions) -> u8 {
             eprintln!("error: {path} is not valid: {n} violation{}", if n == 1 { "" } else { "s" });
             EXIT_INPUT
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_clearance;
+
+    #[test]
+    fn clearances_in_metres() {
+        assert_eq!(parse_clearance("5mm"), Ok(0.005));
+        assert_eq!(parse_clearance("0.5cm"), Ok(0.005));
+        assert_eq!(parse_clearance("0.005"), Ok(0.005));
+        assert_eq!(parse_clearance("2 m"), Ok(2.0));
+        assert!(parse_clearance("-1mm").is_err());
+        assert!(parse_clearance("5in").is_err());
+        assert!(parse_clearance("NaNmm").is_err());
     }
 }

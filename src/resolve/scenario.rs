@@ -198,7 +198,15 @@ pub struct PlannerSettings {
     pub neighbours: usize,
     /// Stop a query at the first path found (the paper's cheapest stop rule).
     pub first_path: bool,
+    /// Joint acceleration limit (rad/s², m/s² on a prismatic joint) for every joint;
+    /// URDF has none. Scaled by `speed` like the velocity limits.
+    pub acceleration: f64,
+    /// Scaling of every velocity and acceleration limit, in (0, 1] (MoveIt's scaling factors).
+    pub speed: f64,
 }
+
+/// Default `acceleration`: 3 rad/s², a cautious figure for a 6-axis industrial arm.
+pub const DEFAULT_ACCELERATION: f64 = 3.0;
 
 impl Default for PlannerSettings {
     fn default() -> Self {
@@ -210,6 +218,8 @@ impl Default for PlannerSettings {
             time_budget: None,
             neighbours: 10,
             first_path: false,
+            acceleration: DEFAULT_ACCELERATION,
+            speed: 1.0,
         }
     }
 }

@@ -21,6 +21,8 @@ pub enum Kind {
     Length,
     Angle,
     Time,
+    /// Joint acceleration: rad/s² (taken as m/s² on a prismatic joint).
+    Acceleration,
     Count,
 }
 
@@ -30,6 +32,7 @@ impl Kind {
             Kind::Length => "a length",
             Kind::Angle => "an angle",
             Kind::Time => "a duration",
+            Kind::Acceleration => "an acceleration",
             Kind::Count => "a plain number",
         }
     }
@@ -38,12 +41,13 @@ impl Kind {
             Kind::Length => "m, cm or mm",
             Kind::Angle => "deg or rad",
             Kind::Time => "s or ms",
+            Kind::Acceleration => "rad/s2 or deg/s2",
             Kind::Count => "no unit",
         }
     }
 }
 
-const UNITS: [(&str, Kind, f64); 7] = [
+const UNITS: [(&str, Kind, f64); 9] = [
     ("m", Kind::Length, 1.0),
     ("cm", Kind::Length, 0.01),
     ("mm", Kind::Length, 0.001),
@@ -51,6 +55,8 @@ const UNITS: [(&str, Kind, f64); 7] = [
     ("rad", Kind::Angle, 1.0),
     ("s", Kind::Time, 1.0),
     ("ms", Kind::Time, 0.001),
+    ("rad/s2", Kind::Acceleration, 1.0),
+    ("deg/s2", Kind::Acceleration, std::f64::consts::PI / 180.0),
 ];
 
 /// The value of `q` in SI units, checking that its unit is of kind `want` and that it is finite.

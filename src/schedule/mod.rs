@@ -1,7 +1,8 @@
-//! Schedule: a planned [`Solution`] -> the [`Schedule`] a user runs, and its writers.
+//! Schedule: a planned [`Solution`], timed -> the [`Schedule`] a user runs, and its writers.
 //!
-//! In: the scenario and the solution of [`plan::andor::solve`](crate::plan::andor::solve).
-//! Out: a `Schedule` (serde, both ways, so `verify` can read it back), written as YAML
+//! In: the world and the solution of [`plan::andor::solve`](crate::plan::andor::solve);
+//! the actions are placed in time by [`timing`](crate::timing). Out: a `Schedule`
+//! (format version [`SCHEDULE_VERSION`]; serde, both ways, so `verify` can read it back), written as YAML
 //! ([`to_yaml`]) or JSON ([`to_json`]), and G as Graphviz DOT ([`to_dot`]). Everything
 //! written is in a fixed order: actions in execution order, `after` sorted, graph
 //! nodes in creation order, robots in declaration order, statistics in query order.
@@ -17,21 +18,36 @@ use serde::{Deserialize, Serialize};
 
 use crate::plan::andor::{Flag, Item, Solution};
 use crate::resolve::{Objective, Scenario, Target};
-use crate::world::JointPath;
+use crate::timing::{self, Motion};
+use crate::world::{JointPath, World};
+
+pub use crate::timing::{Execution, TrajPoint};
+
+/// The format version this build writes and reads.
+pub const SCHEDULE_VERSION: u32 = 2;
 
 /// A whole schedule, exactly the keys of the format (see the book's "Schedule format").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Schedule {
+    /// Always [`SCHEDULE_VERSION`] when written by this build.
+    pub schedule_version: u32,
     /// The scenario's name, or its file's stem.
     pub scenario: String,
     pub status: Status,
     pub seed: u64,
     pub objective: Objective,
+    pub execution: Execution,
     pub target: TargetSpec,
-    /// Object names in removal order (the target object last).
+    /// The blocking objects in removal order (not the target, which is `target`).
     pub removed: Vec<String>,
+    /// Seconds from the first motion until every robot is idle (0 when infeasible).
+    pub makespan: f64,
     pub actions: Vec<ScheduledAction>,
+    /// One per robot, in declaration order, each covering 0..makespan.
+    pub trajectories: Vec<RobotTrajectory>,
+    /// Gripper events in time order (ties: action order).
+    pub events: Vec<Event>,
     pub graph: Vec<GraphNode>,
     pub stats: Vec<QueryStat>,
     /// Why there is no schedule (only when `status` is `infeasible`).
@@ -67,12 +83,43 @@ pub struct ScheduledAction {
     pub grasp: Option<String>,
     /// Ids of the actions that must finish before this one starts, ascending.
     pub after: Vec<u32>,
+    /// Seconds from the schedule's start when the robot leaves home.
+    pub start: f64,
+    /// Seconds when it is back home (or, for a configuration target, at the target).
+    pub end: f64,
     /// Joint waypoints from home to the grasp (or to the target configuration).
     #[serde(serialize_with = "rows")]
     pub approach: Vec<Vec<f64>>,
     /// Joint waypoints from the grasp to the drop and back home, carrying the object.
     #[serde(serialize_with = "rows")]
     pub retreat: Vec<Vec<f64>>,
+}
+
+/// A robot's timed motion: a ROS `trajectory_msgs/JointTrajectory` with the robot's name.
+/// Between consecutive points the motion is the cubic Hermite curve through (q, qd).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotTrajectory {
+    pub robot: String,
+    pub joint_names: Vec<String>,
+    pub points: Vec<TrajPoint>,
+}
+
+/// The gripper closes on (`grasp`) or lets go of (`release`) an object at time `t`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Event {
+    pub t: f64,
+    pub robot: String,
+    pub kind: EventKind,
+    pub object: String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    Grasp,
+    Release,
 }
 
 /// One node of G: its object, and per robot its flag and, where a path was found, the
@@ -142,18 +189,72 @@ impl std::fmt::Display for TargetSpec {
     }
 }
 
-/// Builds the schedule of a solution.
-pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
+/// Builds the schedule of a solution, its actions placed in time by `execution`.
+pub fn build(world: &World, sol: &Solution, execution: Execution) -> Schedule {
+    build_with(world.scenario(), sol, execution, |motions| timing::timeline(world, motions, execution))
+}
+
+/// Builds the schedule of a solution, its actions placed in time by `time` (tests
+/// without a world pass [`timing::sequential`] over hand-made robots).
+pub fn build_with(
+    scn: &Scenario,
+    sol: &Solution,
+    execution: Execution,
+    time: impl FnOnce(&[Motion]) -> timing::Timeline,
+) -> Schedule {
     let graph = &sol.graph;
     let target = target_spec(scn);
+    let mut makespan = 0.0;
+    let mut trajectories = Vec::new();
+    let mut events = Vec::new();
     let (status, removed, actions, reason) = match &sol.outcome {
         Ok(plan) => {
+            let found: Vec<_> = plan
+                .actions
+                .iter()
+                .map(|a| graph.found(a.robot, a.item).expect("every planned action has a found path"))
+                .collect();
+            let motions: Vec<Motion> = plan
+                .actions
+                .iter()
+                .zip(&found)
+                .map(|(a, f)| Motion {
+                    robot: a.robot,
+                    object: a.item.object(),
+                    approach: &f.approach.0,
+                    retreat: &f.retreat.0,
+                    after: &a.after,
+                })
+                .collect();
+            let timeline = time(&motions);
+            makespan = timeline.makespan;
+            trajectories = scn
+                .robot_ids()
+                .zip(timeline.trajectories)
+                .map(|(r, t)| RobotTrajectory {
+                    robot: scn.robot(r).name.clone(),
+                    joint_names: t.joint_names,
+                    points: t.points,
+                })
+                .collect();
+            for (m, ta) in motions.iter().zip(&timeline.actions) {
+                let (Some(o), robot) = (m.object, scn.robot(m.robot).name.clone()) else { continue };
+                let object = scn.object(o).body.name.clone();
+                if let Some(t) = ta.grasp {
+                    events.push(Event { t, robot: robot.clone(), kind: EventKind::Grasp, object: object.clone() });
+                }
+                if let Some(t) = ta.release {
+                    events.push(Event { t, robot, kind: EventKind::Release, object });
+                }
+            }
+            events.sort_by(|a, b| a.t.total_cmp(&b.t));
             let actions = plan
                 .actions
                 .iter()
                 .enumerate()
                 .map(|(i, a)| {
-                    let found = graph.found(a.robot, a.item).expect("every planned action has a found path");
+                    let found = found[i];
+                    let timed = &timeline.actions[i];
                     let grasp = match (a.item, found.grasp) {
                         (Item::Object(o), Some(g)) => scn.object(o).grasps.get(g).map(|g| g.name.clone()),
                         _ => None,
@@ -164,12 +265,23 @@ pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
                         object: a.item.object().map(|o| scn.object(o).body.name.clone()),
                         grasp,
                         after: a.after.iter().map(|j| *j as u32 + 1).collect(),
+                        start: timed.start,
+                        end: timed.end,
                         approach: waypoints(&found.approach),
                         retreat: waypoints(&found.retreat),
                     }
                 })
                 .collect();
-            let removed = plan.removed().into_iter().map(|o| scn.object(o).body.name.clone()).collect();
+            let target_object = match scn.target {
+                Target::Object { object, .. } => Some(object),
+                Target::Config { .. } => None,
+            };
+            let removed = plan
+                .removed()
+                .into_iter()
+                .filter(|o| Some(*o) != target_object)
+                .map(|o| scn.object(o).body.name.clone())
+                .collect();
             (Status::Solved, removed, actions, None)
         }
         Err(why) => (Status::Infeasible, Vec::new(), Vec::new(), Some(why.reason())),
@@ -213,13 +325,18 @@ pub fn build(scn: &Scenario, sol: &Solution) -> Schedule {
         })
         .collect();
     Schedule {
+        schedule_version: SCHEDULE_VERSION,
         scenario: scenario_name(scn),
         status,
         seed: scn.planner.seed,
         objective: scn.planner.objective,
+        execution,
         target,
         removed,
+        makespan,
         actions,
+        trajectories,
+        events,
         graph: nodes,
         stats,
         reason,

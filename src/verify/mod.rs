@@ -1,17 +1,15 @@
 //! Verify: (World, Schedule) -> Ok or the list of violations.
 //!
-//! An independent re-check that shares only the world model with the planner. Actions
-//! run in `id` order; each must wait (through `after`) for the removals its motion
-//! relies on. Every waypoint must lie inside the joint limits, every segment —
-//! interpolated at a quarter of the planner's resolution — must be free of fixed
-//! bodies, of the other robots at home and of objects not yet removed, with the
-//! carried object attached on the way back until the drop configuration; each approach
-//! must end at its grasp (TCP within 1 mm and 0.5°). The grasped object is no obstacle
-//! on the approach's last segment only, and only if that segment is the straight move
-//! in: the TCP within 1 cm of the line from the stand-off to the grasp point, at most
-//! 2 mm past it, turned at most 2° from the grasp. The last action must grasp the target
-//! object or reach the target configuration; a reach has no grasp and no retreat and
-//! comes last. The schedule must name this scenario and its target.
+//! An independent re-check that shares only the world model with the planner and the
+//! timing stage. Two parts. Each action on its own: ids 1..n, `after` naming earlier
+//! actions, every waypoint inside the joint limits, home to home, the approach ending at
+//! its grasp (TCP within 1 mm and 0.5°) after the straight move in (TCP within 1 cm of
+//! the line from the stand-off to the grasp point, at most 2 mm past it, turned at most
+//! 2°), the retreat passing the drop; the target grasped (or reached) last. Then the
+//! whole cell replayed in time ([`time`]): every robot at its interpolated configuration
+//! at once, sampled so that nothing moves more than [`time::SAMPLE_BOUND`] between
+//! samples; contacts, joint positions, velocities and accelerations, waypoints, events
+//! and precedence. The schedule must name this scenario and its target.
 
 pub mod time;
 mod violation;
@@ -19,8 +17,8 @@ mod violation;
 pub use violation::{Location, Phase, Violation, ViolationKind};
 
 use crate::resolve::{Grasp, ObjectId, RobotId, Target};
-use crate::schedule::{target_spec, Schedule, ScheduledAction, Status, TargetSpec};
-use crate::world::{Check, CheckCtx, ObjectSet, World};
+use crate::schedule::{target_spec, Schedule, ScheduledAction, Status, TargetSpec, SCHEDULE_VERSION};
+use crate::world::{ObjectSet, World};
 
 /// How far the approach may end from the grasp's TCP position (metres).
 pub const GRASP_POSITION_TOLERANCE: f64 = 1e-3;
@@ -32,19 +30,37 @@ pub const HOME_TOLERANCE: f64 = 1e-6;
 pub const LIMIT_TOLERANCE: f64 = 1e-9;
 
 /// What a successful verification looked at.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Summary {
     pub actions: usize,
-    pub segments: usize,
-    /// Configurations collision-checked.
-    pub checks: u64,
+    /// Seconds replayed.
+    pub makespan: f64,
+    /// Instants at which the whole cell was checked.
+    pub samples: u64,
+}
+
+/// What `verify` demands beyond the scenario.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Options {
+    /// Distance (metres) every moving thing must keep from what it must not touch; 0
+    /// demands no contact only.
+    pub clearance: f64,
 }
 
 /// Checks a schedule against the world it claims to solve.
 pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violation>> {
+    verify_with(world, schedule, &Options::default())
+}
+
+/// [`verify`] with options.
+pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result<Summary, Vec<Violation>> {
     let scn = world.scenario();
     let mut out = Vec::new();
-    let mut summary = Summary { actions: schedule.actions.len(), ..Summary::default() };
+    let mut summary = Summary { actions: schedule.actions.len(), makespan: schedule.makespan, samples: 0 };
+    if schedule.schedule_version != SCHEDULE_VERSION {
+        out.push(Violation::general(ViolationKind::Version { found: schedule.schedule_version }));
+        return Err(out);
+    }
     // A schedule of another scenario, or of another target, may verify by accident.
     let name = crate::schedule::scenario_name(scn);
     if schedule.scenario != name {
@@ -65,6 +81,8 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
         return Err(out);
     }
     let resolution = scn.planner.resolution;
+    // Actions already at fault: the replay does not judge their waypoints and events again.
+    let mut broken: Vec<u32> = Vec::new();
 
     // Ids must be 1..=n in order: "run in id order" then means list order.
     let mut order: Vec<&ScheduledAction> = schedule.actions.iter().collect();
@@ -75,12 +93,12 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
         }
     }
 
-    // Objects removed by each finished action, for `after` bookkeeping.
-    let mut removed_by: Vec<(u32, ObjectId)> = Vec::new();
-    let mut closure: Vec<(u32, Vec<u32>)> = Vec::new();
+    // Objects removed by earlier actions.
+    let mut gone = ObjectSet::new();
     let mut last_reached_target = false;
 
     for (k, a) in order.iter().enumerate() {
+        let faults = out.len();
         // A reach leaves its robot at the target, where no later action is checked against it.
         if a.object.is_none() && k + 1 < order.len() {
             out.push(Violation::at(a.id, ViolationKind::ReachNotLast));
@@ -89,24 +107,14 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
         if robot.is_none() {
             out.push(Violation::at(a.id, ViolationKind::UnknownRobot { name: a.robot.clone() }));
         }
-        // `after` must name earlier actions; its transitive closure is what this action may rely on.
-        let mut waits: Vec<u32> = Vec::new();
+        // `after` must name earlier actions (the replay checks that they are carried clear in time).
         for (k, &dep) in a.after.iter().enumerate() {
             if a.after[..k].contains(&dep) {
                 out.push(Violation::at(a.id, ViolationKind::DuplicateAfter { dep }));
             } else if dep >= a.id || !order.iter().any(|b| b.id == dep) {
                 out.push(Violation::at(a.id, ViolationKind::BadAfter { dep }));
-            } else {
-                waits.push(dep);
-                if let Some((_, deps)) = closure.iter().find(|(id, _)| *id == dep) {
-                    waits.extend(deps.iter().copied());
-                }
             }
         }
-        waits.sort_unstable();
-        waits.dedup();
-        let relied: ObjectSet = removed_by.iter().filter(|(id, _)| waits.contains(id)).map(|(_, o)| *o).collect();
-        let gone: ObjectSet = removed_by.iter().map(|(_, o)| *o).collect();
 
         // `fresh`: the object is known and still in place, so this action removes it.
         let (object, fresh) = match &a.object {
@@ -129,17 +137,18 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
             check_waypoints(world, r, a, &mut out);
             // Motions between broken waypoints are not checked: they would only repeat the fault.
             if out.len() == before {
-                let scope = Scope { relied: &relied, gone: &gone, removed_by: &removed_by, resolution };
-                check_action(world, r, object, a, &scope, &mut summary, &mut out);
+                check_action(world, r, object, a, resolution, &mut out);
             }
+        }
+        if out.len() > faults {
+            broken.push(a.id);
         }
 
         // Even a broken action counts as done, so later actions are judged on their own
         // (a fault in one action must not reappear as collisions or a missing target later).
         if let (Some(o), true) = (object, fresh) {
-            removed_by.push((a.id, o));
+            gone.insert(o);
         }
-        closure.push((a.id, waits));
         last_reached_target = match (&scn.target, &a.object, object) {
             (Target::Object { object: t, .. }, _, Some(o)) => *t == o,
             (Target::Config { robot: t, .. }, None, _) => robot == Some(*t),
@@ -150,9 +159,32 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
     if !last_reached_target {
         out.push(Violation::general(ViolationKind::TargetNotLast));
     }
-    let names: Vec<&str> = order.iter().filter_map(|a| a.object.as_deref()).collect();
+    let target_name = match &scn.target {
+        Target::Object { object, .. } => Some(scn.object(*object).body.name.as_str()),
+        Target::Config { .. } => None,
+    };
+    let names: Vec<&str> =
+        order.iter().filter_map(|a| a.object.as_deref()).filter(|n| Some(*n) != target_name).collect();
     if schedule.removed.iter().map(String::as_str).ne(names.iter().copied()) {
         out.push(Violation::general(ViolationKind::RemovedListMismatch { expected: names.join(", ") }));
+    }
+
+    if let Some(mut tl) = time::from_schedule::timeline(world, schedule, &mut out) {
+        // An action at fault is not judged again against the trajectories (its motion still is).
+        for a in tl.actions.iter_mut() {
+            a.checked = !broken.contains(&a.id);
+        }
+        let limits = time::RateLimits {
+            velocity: scn
+                .robot_ids()
+                .map(|r| world.velocity_limits(r).iter().map(|v| v * scn.planner.speed).collect())
+                .collect(),
+            acceleration: scn.planner.acceleration * scn.planner.speed,
+        };
+        let opts = time::ReplayOptions { bound: time::SAMPLE_BOUND, clearance: opts.clearance, limits };
+        let (replayed, found) = time::replay(world, &tl, &opts);
+        summary.samples = replayed.samples;
+        out.extend(found);
     }
 
     if out.is_empty() {
@@ -162,25 +194,15 @@ pub fn verify(world: &World, schedule: &Schedule) -> Result<Summary, Vec<Violati
     }
 }
 
-/// What the scene holds while one action runs.
-struct Scope<'a> {
-    /// Removed by actions this one waits for: absent.
-    relied: &'a ObjectSet,
-    /// Removed by any earlier action: touching one of these means a missing `after`.
-    gone: &'a ObjectSet,
-    removed_by: &'a [(u32, ObjectId)],
-    resolution: f64,
-}
-
-/// Home, grasp, drop and every segment of one action whose waypoints are well-formed.
-/// `object` is `None` for the reach of a configuration target.
+/// Home, grasp, drop and the straight move in of one action whose waypoints are
+/// well-formed (its collisions are the replay's). `object` is `None` for the reach of a
+/// configuration target.
 fn check_action(
     world: &World,
     r: RobotId,
     object: Option<ObjectId>,
     a: &ScheduledAction,
-    scope: &Scope,
-    summary: &mut Summary,
+    resolution: f64,
     out: &mut Vec<Violation>,
 ) {
     let scn = world.scenario();
@@ -224,57 +246,24 @@ fn check_action(
         }
     }
 
-    // Collisions. The scene holds every object not removed by an action this one
-    // waits for; a touched object that an earlier action did remove means a missing
-    // `after`, any other touched object is a collision.
-    let absent = |extra: Option<ObjectId>| {
-        let mut absent = scope.relied.clone();
-        if let Some(o) = extra {
-            absent.insert(o);
+    // The move in: only there may the hand touch the object it grasps (the closed hand's
+    // model overlaps it at the grasp), so that move must be straight.
+    if let (Some(g), [.., from, to]) = (grasp, a.approach.as_slice()) {
+        let d = world.approach_deviation(r, g, from, to, resolution);
+        if !d.is_straight() {
+            out.push(Violation::segment(
+                a.id,
+                Phase::Approach,
+                a.approach.len() - 2,
+                ViolationKind::CrookedApproach { grasp: g.name.clone(), deviation: d },
+            ));
         }
-        absent
-    };
-    let n_approach = a.approach.len();
-    for (i, w) in a.approach.windows(2).enumerate() {
-        // The grasped object is not an obstacle on the final straight approach only (the
-        // closed hand's model overlaps it at the grasp), so that move must be straight.
-        let last = i + 2 == n_approach;
-        if let (true, Some(g)) = (last, grasp) {
-            let d = world.approach_deviation(r, g, &w[0], &w[1], scope.resolution);
-            if !d.is_straight() {
-                out.push(Violation::segment(
-                    a.id,
-                    Phase::Approach,
-                    i,
-                    ViolationKind::CrookedApproach { grasp: g.name.clone(), deviation: d },
-                ));
-            }
-        }
-        let ctx = CheckCtx::with_absent(absent(if last { object } else { None }));
-        let res = world.check_motion(r, &w[0], &w[1], scope.resolution, &ctx);
-        summary.checks += ctx.checks.get();
-        summary.segments += 1;
-        report(scn, a.id, Phase::Approach, i, res, scope, out);
     }
-    if let (Some(o), Some(q_grasp)) = (object, end_of_approach) {
-        let held = world.held(r, o, q_grasp);
-        // The object is carried up to the first waypoint at the drop configuration and
-        // released there; the rest of the way home is empty-handed.
+    if object.is_some() {
+        // The object is carried up to the first waypoint at the drop configuration.
         let drop = world.drop_config(r);
-        let released = a.retreat.iter().skip(1).position(|q| near(q, drop)).map(|i| i + 1);
-        if released.is_none() {
+        if !a.retreat.iter().skip(1).any(|q| near(q, drop)) {
             out.push(Violation::at(a.id, ViolationKind::NoDrop));
-        }
-        let released = released.unwrap_or(a.retreat.len());
-        for (i, w) in a.retreat.windows(2).enumerate() {
-            let mut ctx = CheckCtx::with_absent(absent(Some(o)));
-            if i < released {
-                ctx.held = Some(held.clone());
-            }
-            let res = world.check_motion(r, &w[0], &w[1], scope.resolution, &ctx);
-            summary.checks += ctx.checks.get();
-            summary.segments += 1;
-            report(scn, a.id, Phase::Retreat, i, res, scope, out);
         }
     }
 }
@@ -364,35 +353,4 @@ fn check_grasp<'w>(
         ));
     }
     Some(grasp)
-}
-
-fn report(
-    scn: &crate::resolve::Scenario,
-    action: u32,
-    phase: Phase,
-    segment: usize,
-    res: Check,
-    scope: &Scope,
-    out: &mut Vec<Violation>,
-) {
-    match res {
-        Check::Blocked(b) => out.push(Violation::segment(
-            action,
-            phase,
-            segment,
-            ViolationKind::Blocked(violation::describe_blocker(scn, &b)),
-        )),
-        Check::Touches(set) => {
-            for o in set.iter() {
-                let object = scn.object(o).body.name.clone();
-                let kind = if scope.gone.contains(o) {
-                    let by = scope.removed_by.iter().find(|(_, x)| *x == o).map_or(0, |(id, _)| *id);
-                    ViolationKind::MissingAfter { object, by }
-                } else {
-                    ViolationKind::HitsObject { object }
-                };
-                out.push(Violation::segment(action, phase, segment, kind));
-            }
-        }
-    }
 }

@@ -3,8 +3,7 @@
 
 use std::fmt;
 
-use crate::resolve::Scenario;
-use crate::world::{ApproachDeviation, Blocker};
+use crate::world::ApproachDeviation;
 
 /// Which half of an action a waypoint or segment belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +53,10 @@ pub struct Violation {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ViolationKind {
     NotSolved,
+    /// A schedule of another format version.
+    Version {
+        found: u32,
+    },
     /// The schedule's `scenario` is not this scenario's name.
     ScenarioMismatch {
         expected: String,
@@ -127,17 +130,6 @@ pub enum ViolationKind {
     },
     /// A reach (no object) with retreat waypoints: it ends at the target.
     RetreatOnReach,
-    /// A fixed body, another robot, self-collision or a joint limit, described.
-    Blocked(String),
-    /// Touches an object no earlier action removed.
-    HitsObject {
-        object: String,
-    },
-    /// Touches an object an earlier action removed, without waiting for that action.
-    MissingAfter {
-        object: String,
-        by: u32,
-    },
     TargetNotLast,
     RemovedListMismatch {
         expected: String,
@@ -185,6 +177,11 @@ impl fmt::Display for ViolationKind {
         use ViolationKind::*;
         match self {
             NotSolved => f.write_str("the schedule is not solved (status is not `solved`)"),
+            Version { found } => write!(
+                f,
+                "is of format version {found}; this declutter verifies version {}",
+                crate::schedule::SCHEDULE_VERSION
+            ),
             ScenarioMismatch { expected, found } => {
                 write!(f, "is for scenario `{found}`, not `{expected}`")
             }
@@ -235,14 +232,9 @@ impl fmt::Display for ViolationKind {
             RetreatOnReach => {
                 f.write_str("a reach of the target configuration has retreat waypoints; it must end there")
             }
-            Blocked(what) => f.write_str(what),
-            HitsObject { object } => write!(f, "touches `{object}`, which is still in place"),
-            MissingAfter { object, by } => {
-                write!(f, "needs `{object}` removed (action {by}) but does not wait for that action in `after`")
-            }
             TargetNotLast => f.write_str("the last action does not grasp (or reach) the target"),
             RemovedListMismatch { expected } => {
-                write!(f, "`removed` does not list the grasped objects in action order ({expected})")
+                write!(f, "`removed` does not list the grasped objects but the target in action order ({expected})")
             }
             Time(v) => v.fmt(f),
         }
@@ -266,28 +258,5 @@ impl fmt::Display for Value {
 impl fmt::Display for Violation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: {}", self.location, self.kind)
-    }
-}
-
-/// A blocker in scenario terms: names of bodies, robots, links.
-pub fn describe_blocker(scn: &Scenario, b: &Blocker) -> String {
-    let fixed = |id: crate::resolve::FixedId| scn.fixed.get(id.index()).map_or("?", |b| b.name.as_str()).to_string();
-    let object =
-        |id: crate::resolve::ObjectId| scn.objects.get(id.index()).map_or("?", |o| o.body.name.as_str()).to_string();
-    let robot = |id: crate::resolve::RobotId| scn.robots.get(id.index()).map_or("?", |r| r.name.as_str()).to_string();
-    match b {
-        Blocker::Fixed { body, link } => format!("link `{link}` hits fixed body `{}`", fixed(*body)),
-        Blocker::HeldFixed { object: o, body } => {
-            format!("carried `{}` hits fixed body `{}`", object(*o), fixed(*body))
-        }
-        Blocker::Robot { other, link, other_link } => {
-            format!("link `{link}` hits robot `{}` (link `{other_link}`) at its home", robot(*other))
-        }
-        Blocker::HeldRobot { object: o, other, other_link } => {
-            format!("carried `{}` hits robot `{}` (link `{other_link}`) at its home", object(*o), robot(*other))
-        }
-        Blocker::SelfCollision { link_a, link_b } => format!("self-collision between `{link_a}` and `{link_b}`"),
-        Blocker::HeldSelf { object: o, link } => format!("carried `{}` hits the arm's own link `{link}`", object(*o)),
-        Blocker::JointLimit { joint, value } => format!("joint `{joint}` at {} is outside its limits", Value(*value)),
     }
 }

@@ -42,6 +42,8 @@ pub(crate) struct Chain {
     pub links: Vec<ChainLink>,
     pub joint_names: Vec<String>,
     pub limits: Vec<(f64, f64)>,
+    /// Velocity limit per actuated joint (rad/s or m/s).
+    pub velocities: Vec<f64>,
     pub flange: usize,
     /// Links from the root to the flange, root first.
     pub path: Vec<usize>,
@@ -107,6 +109,7 @@ impl Chain {
         // Actuated joints: on the path, movable, not mimic.
         let mut joint_names = Vec::new();
         let mut limits = Vec::new();
+        let mut velocities = Vec::new();
         let mut active_of_joint = vec![None; model.joints.len()];
         for &l in &path_model {
             if let Some(j) = model.links[l].parent_joint {
@@ -115,6 +118,7 @@ impl Chain {
                     active_of_joint[j] = Some(joint_names.len());
                     joint_names.push(mj.name.clone());
                     limits.push((mj.lower, mj.upper));
+                    velocities.push(mj.velocity);
                 }
             }
         }
@@ -168,6 +172,7 @@ impl Chain {
             links,
             joint_names,
             limits,
+            velocities,
             model_index: order,
         })
     }

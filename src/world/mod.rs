@@ -16,6 +16,7 @@ mod error;
 mod grasps;
 mod ik;
 mod labels;
+mod proximity;
 mod robot;
 mod scene;
 mod shapes;
@@ -32,8 +33,10 @@ pub use grasps::{
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
+pub use proximity::RobotAt;
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
+pub use urdf::DEFAULT_VELOCITY;
 
 use std::ops::{Deref, DerefMut};
 
@@ -78,6 +81,11 @@ impl World {
     /// prismatic joints must declare finite limits in the URDF (checked at load).
     pub fn limits(&self, r: RobotId) -> &[(f64, f64)] {
         &self.robots[r.index()].chain.limits
+    }
+    /// Velocity limit per actuated joint (rad/s or m/s), from the URDF's `<limit
+    /// velocity>`; [`DEFAULT_VELOCITY`] where the URDF gives none or zero.
+    pub fn velocity_limits(&self, r: RobotId) -> &[f64] {
+        &self.robots[r.index()].chain.velocities
     }
     pub fn home(&self, r: RobotId) -> &Config {
         &self.robots[r.index()].home

@@ -31,6 +31,12 @@ pub(crate) const MAX_LENGTH: f64 = 1e6;
 /// configurations is meaningless; a joint that turns freely is `continuous`.
 pub(crate) const MAX_TRAVEL: f64 = 1e3;
 
+/// Velocity limit (rad/s or m/s) of a movable joint whose URDF gives none (urdf-rs
+/// reads an absent `velocity` as 0), or a non-positive or non-finite one: a cautious
+/// figure rather than an error, since collision checking never needs it and many
+/// hand-written URDFs leave it at 0. Continuous joints have no `<limit>` at all.
+pub const DEFAULT_VELOCITY: f64 = 1.0;
+
 /// How a joint moves its child.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Motion {
@@ -73,6 +79,8 @@ pub(crate) struct ModelJoint {
     pub child: usize,
     pub lower: f64,
     pub upper: f64,
+    /// `<limit velocity>` (rad/s or m/s); [`DEFAULT_VELOCITY`] when absent, zero or not finite.
+    pub velocity: f64,
     /// (leader joint name, multiplier, offset)
     pub mimic: Option<(String, f64, f64)>,
 }
@@ -245,6 +253,11 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             child,
             lower,
             upper,
+            velocity: if j.limit.velocity.is_finite() && j.limit.velocity > 0.0 {
+                j.limit.velocity
+            } else {
+                DEFAULT_VELOCITY
+            },
             mimic,
         });
     }

@@ -12,8 +12,17 @@ use crate::syntax::did_you_mean;
 
 impl Lower<'_> {
     pub(super) fn planner(&mut self, entries: &[&ast::PlannerEntry]) -> PlannerSettings {
-        const KEYS: [&str; 7] =
-            ["seed", "max_samples", "resolution", "objective", "time_budget", "neighbours", "first_path"];
+        const KEYS: [&str; 9] = [
+            "seed",
+            "max_samples",
+            "resolution",
+            "objective",
+            "time_budget",
+            "neighbours",
+            "first_path",
+            "acceleration",
+            "speed",
+        ];
         let mut p = PlannerSettings::default();
         // Within one file a key may appear once; a later file (the root, after its `use`)
         // may override a used file's setting.
@@ -89,6 +98,39 @@ impl Lower<'_> {
                         }
                     }
                 }
+                ("acceleration", ast::Value::Quantity(q)) => {
+                    if let Some(v) = self.ok(convert(q, Kind::Acceleration)) {
+                        if v <= 0.0 || v > 1000.0 {
+                            self.errors.push(ResolveError::OutOfRange {
+                                what: "`acceleration`".to_string(),
+                                limit: "greater than 0 and at most 1000rad/s2".to_string(),
+                                value: written(q),
+                                span: q.span,
+                                help: Some("a typical arm accelerates its joints at 1rad/s2 to 10rad/s2".to_string()),
+                            });
+                        } else {
+                            p.acceleration = v;
+                        }
+                    }
+                }
+                ("speed", ast::Value::Quantity(q)) => {
+                    if let Some(v) = self.ok(convert(q, Kind::Count)) {
+                        if v <= 0.0 || v > 1.0 {
+                            self.errors.push(ResolveError::OutOfRange {
+                                what: "`speed`".to_string(),
+                                limit: "greater than 0 and at most 1".to_string(),
+                                value: written(q),
+                                span: q.span,
+                                help: Some(
+                                    "`speed` scales the URDF's velocity limits and `acceleration`: 0.5 is half speed"
+                                        .to_string(),
+                                ),
+                            });
+                        } else {
+                            p.speed = v;
+                        }
+                    }
+                }
                 ("objective", ast::Value::Ident(i)) => match i.name.as_str() {
                     "fewest_removals" => p.objective = Objective::FewestRemovals,
                     "fewest_vertices" => p.objective = Objective::FewestVertices,
@@ -110,6 +152,8 @@ impl Lower<'_> {
                 ("first_path", _) => self.errors.push(bad("`true` or `false`", None)),
                 ("resolution", _) => self.errors.push(bad("an angle like `2deg`", None)),
                 ("time_budget", _) => self.errors.push(bad("a duration like `30s` or `500ms`", None)),
+                ("acceleration", _) => self.errors.push(bad("an acceleration like `3rad/s2`", None)),
+                ("speed", _) => self.errors.push(bad("a number in (0, 1] like `0.5`", None)),
                 _ => self.errors.push(bad("a whole number", None)),
             }
         }

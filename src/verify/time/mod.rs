@@ -20,6 +20,7 @@
 //! [`JointReach`]: crate::world::JointReach
 
 mod events;
+pub mod from_schedule;
 pub mod hermite;
 pub mod read;
 mod replay;

@@ -1,0 +1,228 @@
+//! Concurrent placement of actions in time: list scheduling with a swept-distance check.
+//!
+//! Actions are placed in plan order (a topological order of `after`). Each one starts
+//! at the earliest time, on a grid of [`START_STEP`] from its lower bound, at which
+//! - its robot has finished its previous action,
+//! - every action it waits for has carried its object clear (reached the first retreat
+//!   waypoint after the grasp, the pre-grasp stand-off), and
+//! - for as long as it overlaps an action of another robot already placed, the two
+//!   robots, each with what it carries, stay at least [`SEPARATION`] apart at every
+//!   instant.
+//!
+//! The last point is proved, not sampled: at an instant where the two are `d` apart,
+//! neither can close more than the distance its points can travel, bounded per stretch
+//! between trajectory points by `Σ reach_j · max |q̇_j|` ([`JointReach`]; between two
+//! points q̇ is linear, so its largest magnitude is at an end). The check jumps ahead
+//! by the time that bound needs to use up `d − SEPARATION` and measures again, and
+//! calls a conflict when `d < SEPARATION + MIN_ADVANCE` (so each jump covers at least
+//! `MIN_ADVANCE` of closing distance).
+//!
+//! A robot outside its actions is at `home` (every action but a configuration target's
+//! ends there), where the planner already checked every other robot's motion against
+//! it; so only overlapping actions are compared. A configuration target's action keeps
+//! its robot at the target afterwards: it overlaps everything after its start.
+//!
+//! What it does not do: it never changes a path or makes a robot wait inside an action,
+//! and it keeps the planner's choice of robot per action; the makespan is not optimal.
+//! If some action finds no safe start (which the planner's checks rule out), every
+//! action is placed one after another instead.
+//!
+//! [`JointReach`]: crate::world::JointReach
+
+use super::{hermite, one_after_another, time_action, Motion, RobotTiming, TimedAction, TrajPoint};
+use crate::resolve::RobotId;
+use crate::world::{Held, RobotAt, World};
+
+/// Distance (metres) two robots, and what they carry, keep at every instant while both
+/// are in an action.
+pub const SEPARATION: f64 = 0.005;
+
+/// A sample nearer than `SEPARATION + MIN_ADVANCE` is a conflict (see the module docs).
+const MIN_ADVANCE: f64 = 0.002;
+
+/// Start times tried, in seconds after an action's lower bound.
+pub const START_STEP: f64 = 0.05;
+
+/// Shapes' boxes nearer than this get an exact distance.
+const NEAR: f64 = 0.1;
+
+/// Tolerance for "this configuration is home".
+const AT_HOME: f64 = 1e-9;
+
+/// One action as placed, in absolute time.
+struct Run {
+    robot: RobotId,
+    start: f64,
+    /// When its robot is back home; infinite when it stays away (configuration target).
+    until: f64,
+    points: Vec<TrajPoint>,
+    /// Grasp to release, and the object as carried.
+    hold: Option<(f64, f64, Held)>,
+    /// Displacement bound per unit joint motion, empty- and full-handed.
+    reach: Vec<f64>,
+    reach_held: Vec<f64>,
+}
+
+impl Run {
+    fn q_at(&self, t: f64) -> Vec<f64> {
+        hermite(&self.points, t)
+    }
+
+    fn held_at(&self, t: f64) -> Option<&Held> {
+        self.hold.as_ref().filter(|(g, r, _)| *g <= t && t < *r).map(|(_, _, h)| h)
+    }
+
+    /// The bound on how fast any point moves in the stretch between points that holds
+    /// `t`, and when that stretch ends (infinite after the last point: at rest).
+    fn speed(&self, t: f64) -> (f64, f64) {
+        let k = self.points.partition_point(|p| p.t <= t);
+        if k == 0 || k >= self.points.len() {
+            let next = self.points.get(k).map_or(f64::INFINITY, |p| p.t);
+            return (0.0, next);
+        }
+        let (a, b) = (&self.points[k - 1], &self.points[k]);
+        let carrying = self.hold.as_ref().is_some_and(|(g, r, _)| *g < b.t && a.t < *r);
+        let reach = if carrying { &self.reach_held } else { &self.reach };
+        let v = reach.iter().enumerate().map(|(j, rj)| rj * a.qd[j].abs().max(b.qd[j].abs())).sum();
+        (v, b.t)
+    }
+
+    /// Times after `t` at which what it holds changes.
+    fn next_event(&self, t: f64) -> f64 {
+        match &self.hold {
+            Some((g, r, _)) if *g > t => *g,
+            Some((_, r, _)) if *r > t => *r,
+            _ => f64::INFINITY,
+        }
+    }
+}
+
+/// The first instant in the overlap of `x` and `y` at which the two robots come nearer
+/// than allowed, if any.
+fn conflict(world: &World, x: &Run, y: &Run) -> Option<f64> {
+    let lo = x.start.max(y.start);
+    let hi = x.until.min(y.until);
+    if lo >= hi {
+        return None;
+    }
+    let mut t = lo;
+    loop {
+        let (qx, qy) = (x.q_at(t), y.q_at(t));
+        let d = world.robots_apart(
+            RobotAt { robot: x.robot, q: &qx, held: x.held_at(t) },
+            RobotAt { robot: y.robot, q: &qy, held: y.held_at(t) },
+            NEAR,
+        );
+        if d < SEPARATION + MIN_ADVANCE {
+            return Some(t);
+        }
+        let mut budget = d - SEPARATION;
+        // Advance until the closing bound has used up the budget, stopping early to
+        // measure again where what either robot holds changes.
+        loop {
+            let (vx, ex) = x.speed(t);
+            let (vy, ey) = y.speed(t);
+            let event = x.next_event(t).min(y.next_event(t));
+            let end = ex.min(ey).min(event).min(hi);
+            let v = vx + vy;
+            if v * (end - t) >= budget {
+                t += budget / v;
+                break;
+            }
+            if !end.is_finite() {
+                return None;
+            }
+            budget -= v * (end - t);
+            t = end;
+            if t >= hi {
+                return None;
+            }
+            if t == event {
+                break;
+            }
+        }
+    }
+}
+
+/// Places the actions as the module docs say.
+pub(super) fn place(world: &World, robots: &[RobotTiming], motions: &[Motion]) -> Vec<TimedAction> {
+    let relative: Vec<TimedAction> = motions.iter().map(|m| time_action(&robots[m.robot.index()], m, 0.0)).collect();
+    let reach: Vec<_> = world.scenario().robot_ids().map(|r| world.joint_reach(r)).collect();
+    let mut placed: Vec<(TimedAction, Run)> = Vec::with_capacity(motions.len());
+    for (i, m) in motions.iter().enumerate() {
+        let r = m.robot.index();
+        let rel = &relative[i];
+        let own_free = placed.iter().filter(|(_, run)| run.robot == m.robot).map(|(a, _)| a.end).fold(0.0, f64::max);
+        let deps_clear =
+            m.after.iter().filter_map(|&j| placed.get(j)).map(|(a, _)| a.clear.unwrap_or(a.end)).fold(0.0, f64::max);
+        let lower = own_free.max(deps_clear);
+        let others_done =
+            placed.iter().filter(|(_, run)| run.robot != m.robot).map(|(a, _)| a.end).fold(lower, f64::max);
+        let held = match (m.object, m.approach.last()) {
+            (Some(o), Some(q)) if rel.grasp.is_some() => Some(world.held(m.robot, o, &q.0)),
+            _ => None,
+        };
+        let held_radius = held.as_ref().map_or(0.0, |h| world.held_radius(h));
+        let last = m.retreat.last().or(m.approach.last());
+        let ends_home = last.is_none_or(|q| {
+            let home = &robots[r].home;
+            q.0.len() == home.len() && q.0.iter().zip(home).all(|(a, b)| (a - b).abs() <= AT_HOME)
+        });
+        let make_run = |start: f64| {
+            let shifted = shift(rel, start);
+            let run = Run {
+                robot: m.robot,
+                start,
+                until: if ends_home { shifted.end } else { f64::INFINITY },
+                points: shifted.points.clone(),
+                hold: match (&held, shifted.grasp, shifted.release) {
+                    (Some(h), Some(g), Some(rl)) => Some((g, rl, h.clone())),
+                    _ => None,
+                },
+                reach: reach[r].bodies.clone(),
+                reach_held: reach[r].with_held(held_radius),
+            };
+            (shifted, run)
+        };
+        let safe = |run: &Run| {
+            placed
+                .iter()
+                .filter(|(_, other)| other.robot != m.robot)
+                .all(|(_, other)| conflict(world, run, other).is_none())
+        };
+        let mut k = 0u32;
+        let chosen = loop {
+            let start = lower + f64::from(k) * START_STEP;
+            if start >= others_done {
+                let (a, run) = make_run(others_done);
+                if safe(&run) {
+                    break Some((a, run));
+                }
+                break None;
+            }
+            let (a, run) = make_run(start);
+            if safe(&run) {
+                break Some((a, run));
+            }
+            k += 1;
+        };
+        match chosen {
+            Some(c) => placed.push(c),
+            None => return one_after_another(robots, motions),
+        }
+    }
+    placed.into_iter().map(|(a, _)| a).collect()
+}
+
+/// The action timed from `start` instead of 0 (the same profile, shifted).
+fn shift(a: &TimedAction, start: f64) -> TimedAction {
+    let s = |t: f64| t + start;
+    TimedAction {
+        start: s(a.start),
+        grasp: a.grasp.map(s),
+        release: a.release.map(s),
+        clear: a.clear.map(s),
+        end: s(a.end),
+        points: a.points.iter().map(|p| TrajPoint { t: s(p.t), q: p.q.clone(), qd: p.qd.clone() }).collect(),
+    }
+}
