@@ -103,6 +103,24 @@ fn verify_exits_1_with_the_violation_on_a_tampered_schedule() {
 }
 
 #[test]
+fn verify_refuses_a_schedule_of_another_format_version_by_name() {
+    let dir = TempDir::new("version");
+    let file = dir.path("s.yaml");
+    let o = run(&["compile", "examples/box_lid.dcl", "-o", &file]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = std::fs::read_to_string(&file).expect("schedule written");
+    // A version 1 schedule had no `schedule_version` key; a later one names its number.
+    let v1 = text.strip_prefix("schedule_version: 2\n").expect("version 2 first").to_string();
+    for (name, body) in [("v1.yaml", v1), ("v3.yaml", text.replacen("schedule_version: 2", "schedule_version: 3", 1))] {
+        let path = dir.path(name);
+        std::fs::write(&path, body).expect("written");
+        let o = run(&["verify", "examples/box_lid.dcl", &path]);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        insta::assert_snapshot!(format!("verify_version_{name}"), dir.mask(&stderr(&o)));
+    }
+}
+
+#[test]
 fn compile_of_an_infeasible_scenario_exits_2_with_the_reason() {
     let dir = TempDir::new("infeasible");
     let file = dir.path("w.yaml");
@@ -201,7 +219,7 @@ fn out_to_a_fifo_writes_through_it_and_leaves_it_a_fifo() {
     let text = reader.join().expect("reader thread");
     assert!(kind.is_fifo(), "the FIFO was replaced: {kind:?}");
     assert_eq!(code(&o), 0, "{}", stderr(&o));
-    assert!(text.starts_with("scenario: box-lid\n"), "{text}");
+    assert!(text.starts_with("schedule_version: 2\nscenario: box-lid\n"), "{text}");
     assert_eq!(dir.files(), ["pipe", "spare"], "no temporary file left");
 }
 
@@ -216,7 +234,7 @@ fn out_through_a_symlink_replaces_the_file_it_names_not_the_link() {
     let link = std::fs::symlink_metadata(dir.0.join("link.yaml")).expect("link still there");
     assert!(link.file_type().is_symlink(), "the link was replaced by a file");
     let text = std::fs::read_to_string(dir.0.join("real/a.yaml")).expect("target readable");
-    assert!(text.starts_with("scenario: box-lid\n"), "{text}");
+    assert!(text.starts_with("schedule_version: 2\nscenario: box-lid\n"), "{text}");
     assert_eq!(dir.files(), ["link.yaml", "real"]);
 }
 
@@ -325,14 +343,23 @@ fn compile_stats_prints_one_row_per_query_with_the_schedules_figures() {
     );
     // Every row but the time column is what the schedule's `stats` list holds.
     let s = parse_schedule(&std::fs::read_to_string(&out).expect("schedule written")).expect("parses");
-    assert_eq!(lines.len(), s.stats.len() + 2, "header, one row per query, total: {err}");
+    assert_eq!(lines.len(), s.stats.len() + 3, "header, one row per query, total, makespans: {err}");
     for (line, q) in lines[1..].iter().zip(&s.stats) {
         let cols: Vec<&str> = line.split_whitespace().collect();
         assert_eq!(cols[0..2].join(" "), format!("P({}, {})", q.robot, q.object), "{line}");
         let figures: Vec<u64> = cols[3..].iter().map(|c| c.parse().expect("a count")).collect();
         assert_eq!(figures, [q.samples, q.connected, q.paths, q.checks], "{line}");
     }
-    assert!(lines.last().is_some_and(|l| l.starts_with("total")), "{err}");
+    assert!(lines[lines.len() - 2].starts_with("total"), "{err}");
+    // Both makespans, the written (concurrent) one as the schedule states it.
+    let makespans: Vec<f64> = lines[lines.len() - 1]
+        .strip_prefix("makespan: sequential ")
+        .and_then(|l| l.strip_suffix(" s"))
+        .map(|l| l.split(" s, concurrent ").map(|v| v.parse().expect("seconds")).collect())
+        .unwrap_or_default();
+    assert_eq!(makespans.len(), 2, "{err}");
+    assert_eq!(format!("{:.3}", makespans[1]), format!("{:.3}", s.makespan), "{err}");
+    assert!(makespans[1] < makespans[0], "box_lid's two actions overlap: {err}");
 }
 
 #[test]

@@ -30,7 +30,7 @@ pub enum ScheduleReadError {
     #[error("`{path}` is a schedule of format version {found}; this declutter reads version {expected}")]
     #[diagnostic(
         code(declutter::verify::version),
-        help("compile the scenario again with this declutter to get a version {expected} schedule")
+        help("compile the scenario with this declutter to get a version {expected} schedule, or verify it with the declutter that wrote it")
     )]
     Version { path: String, found: String, expected: u32 },
 }
