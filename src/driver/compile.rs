@@ -81,10 +81,11 @@ pub struct Planned {
     pub refinements: u32,
 }
 
-/// The planner checks straight motions every `resolution`; the verifier every quarter of
-/// it, so a thin gap the planner stepped over can fail verification. Planning again at
-/// half and then a quarter of the step makes the planner's checks those of the verifier.
-const MAX_REFINEMENTS: u32 = 2;
+/// The planner checks straight motions every `resolution` of joint travel; the verifier
+/// replays them so that no point moves more than 2 mm between its samples, so a thin
+/// gap the planner stepped over can fail verification. Planning again at half the step,
+/// up to a sixteenth (2° → 0.125°, about 2 mm at a TX-90's hand), closes that gap.
+const MAX_REFINEMENTS: u32 = 4;
 
 /// Plans a built world (one PRMwO planner over every robot, then the AND/OR graph) and
 /// verifies the schedule, refining the resolution when verification fails. This is all
