@@ -89,6 +89,32 @@ fn drakes_filter_group_takes_the_wrist_pair_out_of_the_self_checks() {
 }
 
 #[test]
+fn drakes_acceleration_limits_time_the_iiwa_and_the_planners_default_the_rest() {
+    let Some(root) = shared_robots() else { return };
+    let urdf = root.join("iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf");
+    let scn_path = mid_range_scenario("iiwa_accelerations", &urdf, None);
+    let text = std::fs::read_to_string(&scn_path).unwrap() + "planner {\n    speed 0.5\n}\n";
+    std::fs::write(&scn_path, text).unwrap();
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(&scn_path, &FsLoader, &mut sources).unwrap();
+    let opts = WorldOptions { self_collision_samples: 0, ..WorldOptions::default() };
+    let w = world::build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    let arm = declutter::resolve::RobotId(0);
+    // The file's `<limit drake:acceleration=...>`, joints 1 to 7.
+    let file = [8.57, 8.57, 8.74, 11.36, 12.23, 15.72, 15.72];
+    assert_eq!(w.acceleration_limits(arm), file);
+    // Timing keeps them, scaled by `speed` like the velocities.
+    let t = declutter::timing::RobotTiming::of(&w, arm);
+    assert_eq!(t.limits.acceleration, file.map(|a| a * 0.5));
+    assert_eq!(t.limits.velocity[0], 1.4835298641951802 * 0.5);
+    // A URDF without them (the TX-90) gets the planner's `acceleration`, 3 rad/s² by default.
+    let scn_path = mid_range_scenario("tx90_accelerations", &root.join("tx90/tx90.urdf"), None);
+    let scn = declutter::resolve::resolve(&scn_path, &FsLoader, &mut sources).unwrap();
+    let w = world::build(&scn, &opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(w.acceleration_limits(arm), [3.0; 6]);
+}
+
+#[test]
 fn what_check_can_know_before_planning_is_a_located_error() {
     let mut all = String::new();
     for f in ["srdf_unknown_link", "srdf_malformed", "target_collides", "objects_overlap"] {

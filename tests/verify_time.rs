@@ -55,7 +55,7 @@ fn options(velocity: f64, acceleration: f64) -> ReplayOptions {
     ReplayOptions {
         bound: SAMPLE_BOUND,
         clearance: 0.0,
-        limits: RateLimits { velocity: vec![vec![velocity; 3]; 2], acceleration },
+        limits: RateLimits { velocity: vec![vec![velocity; 3]; 2], acceleration: vec![vec![acceleration; 3]; 2] },
     }
 }
 

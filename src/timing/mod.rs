@@ -101,7 +101,8 @@ pub struct RobotTiming {
 }
 
 impl RobotTiming {
-    /// Robot `r` of a world: URDF velocities and the planner's acceleration, both
+    /// Robot `r` of a world: URDF velocities, and accelerations from the URDF where it
+    /// has them (Drake's `drake:acceleration`) or the planner's `acceleration`, all
     /// scaled by the planner's `speed`.
     pub fn of(world: &World, r: RobotId) -> RobotTiming {
         let p = &world.scenario().planner;
@@ -109,7 +110,7 @@ impl RobotTiming {
             joint_names: world.joint_names(r).to_vec(),
             limits: Limits {
                 velocity: world.velocity_limits(r).iter().map(|v| v * p.speed).collect(),
-                acceleration: vec![p.acceleration * p.speed; world.dof(r)],
+                acceleration: world.acceleration_limits(r).iter().map(|a| a * p.speed).collect(),
             },
             home: world.home(r).0.clone(),
             drop: world.drop_config(r).0.clone(),

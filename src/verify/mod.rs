@@ -179,7 +179,10 @@ pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result
                 .robot_ids()
                 .map(|r| world.velocity_limits(r).iter().map(|v| v * scn.planner.speed).collect())
                 .collect(),
-            acceleration: scn.planner.acceleration * scn.planner.speed,
+            acceleration: scn
+                .robot_ids()
+                .map(|r| world.acceleration_limits(r).iter().map(|a| a * scn.planner.speed).collect())
+                .collect(),
         };
         let opts = time::ReplayOptions { bound: time::SAMPLE_BOUND, clearance: opts.clearance, limits };
         let (replayed, found) = time::replay(world, &tl, &opts);

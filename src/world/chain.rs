@@ -44,6 +44,8 @@ pub(crate) struct Chain {
     pub limits: Vec<(f64, f64)>,
     /// Velocity limit per actuated joint (rad/s or m/s).
     pub velocities: Vec<f64>,
+    /// The URDF's acceleration limit per actuated joint, where it states one (Drake's extension).
+    pub accelerations: Vec<Option<f64>>,
     pub flange: usize,
     /// Links from the root to the flange, root first.
     pub path: Vec<usize>,
@@ -110,6 +112,7 @@ impl Chain {
         let mut joint_names = Vec::new();
         let mut limits = Vec::new();
         let mut velocities = Vec::new();
+        let mut accelerations = Vec::new();
         let mut active_of_joint = vec![None; model.joints.len()];
         for &l in &path_model {
             if let Some(j) = model.links[l].parent_joint {
@@ -119,6 +122,7 @@ impl Chain {
                     joint_names.push(mj.name.clone());
                     limits.push((mj.lower, mj.upper));
                     velocities.push(mj.velocity);
+                    accelerations.push(mj.acceleration);
                 }
             }
         }
@@ -173,6 +177,7 @@ impl Chain {
             joint_names,
             limits,
             velocities,
+            accelerations,
             model_index: order,
         })
     }

@@ -87,6 +87,12 @@ impl World {
     pub fn velocity_limits(&self, r: RobotId) -> &[f64] {
         &self.robots[r.index()].chain.velocities
     }
+    /// Acceleration limit per actuated joint (rad/s² or m/s²): the URDF's own
+    /// (`drake:acceleration`) where it states one, else the planner's `acceleration`.
+    pub fn acceleration_limits(&self, r: RobotId) -> Vec<f64> {
+        let fallback = self.scenario.planner.acceleration;
+        self.robots[r.index()].chain.accelerations.iter().map(|a| a.unwrap_or(fallback)).collect()
+    }
     pub fn home(&self, r: RobotId) -> &Config {
         &self.robots[r.index()].home
     }

@@ -81,6 +81,8 @@ pub(crate) struct ModelJoint {
     pub upper: f64,
     /// `<limit velocity>` (rad/s or m/s); [`DEFAULT_VELOCITY`] when absent, zero or not finite.
     pub velocity: f64,
+    /// `<limit drake:acceleration>` (rad/s² or m/s²), Drake's extension; URDF itself has none.
+    pub acceleration: Option<f64>,
     /// (leader joint name, multiplier, offset)
     pub mimic: Option<(String, f64, f64)>,
 }
@@ -258,6 +260,7 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             } else {
                 DEFAULT_VELOCITY
             },
+            acceleration: None,
             mimic,
         });
     }
@@ -284,6 +287,11 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
         }
     }
     let filter_pairs = drake_filter_pairs(text, &names_of(&links))?;
+    for (name, a) in drake_accelerations(text)? {
+        if let Some(j) = joints.iter_mut().find(|j| j.name == name) {
+            j.acceleration = Some(a);
+        }
+    }
     let model = Model { links, joints, root, filter_pairs };
     // Every link reachable from the root exactly once (a cycle would leave some unreached).
     let mut seen = 0;
@@ -351,6 +359,35 @@ fn drake_filter_pairs(text: &str, links: &[&str]) -> Result<Vec<(String, String)
     Ok(pairs)
 }
 
+/// Drake's per-joint acceleration limits, `<limit drake:acceleration="8.57" .../>`, by
+/// joint name (urdf-rs drops the attribute). A value that is not a positive finite
+/// number is an error: a limit the file states must be one the timing can keep.
+fn drake_accelerations(text: &str) -> Result<Vec<(String, f64)>, UrdfProblem> {
+    if !text.contains("drake:acceleration") {
+        return Ok(Vec::new());
+    }
+    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfProblem::Parse(e.to_string()))?;
+    let mut out = Vec::new();
+    for joint in doc.descendants().filter(|n| n.is_element() && n.tag_name().name() == "joint") {
+        let name = joint.attribute("name").unwrap_or_default();
+        for limit in joint.children().filter(|n| n.is_element() && n.tag_name().name() == "limit") {
+            let Some(v) = limit.attributes().find(|a| a.name() == "acceleration" && a.namespace().is_some()) else {
+                continue;
+            };
+            match v.value().trim().parse::<f64>() {
+                Ok(a) if a.is_finite() && a > 0.0 => out.push((name.to_string(), a)),
+                _ => {
+                    return Err(UrdfProblem::Structure(format!(
+                        "joint `{name}` has `drake:acceleration=\"{}\"`, not a positive number",
+                        v.value()
+                    )))
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
 fn first_line(s: &str) -> String {
     s.lines().next().unwrap_or("").trim().to_string()
 }
@@ -385,5 +422,27 @@ mod filter_tests {
     fn a_filter_group_naming_an_unknown_link_is_refused() {
         let text = ARM.replace(r#"<drake:member link="c"/>"#, r#"<drake:member link="x"/>"#);
         assert!(matches!(parse(&text), Err(UrdfProblem::Structure(r)) if r.contains("names link `x`")));
+    }
+
+    const SLIDER: &str = r#"<robot name="r" xmlns:drake="http://drake.mit.edu">
+  <link name="a"/><link name="b"/>
+  <joint name="j1" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0.5" velocity="0.2" effort="1" drake:acceleration="ACC"/></joint>
+</robot>"#;
+
+    #[test]
+    fn drakes_acceleration_is_read_and_a_bad_one_refused() {
+        let m = parse(&SLIDER.replace("ACC", "2.5")).unwrap();
+        assert_eq!((m.joints[0].velocity, m.joints[0].acceleration), (0.2, Some(2.5)));
+        // urdf-rs already refuses a value that is not a number at all.
+        assert!(parse(&SLIDER.replace("ACC", "fast")).is_err());
+        for bad in ["-1", "0", "inf"] {
+            let r = parse(&SLIDER.replace("ACC", bad));
+            assert!(
+                matches!(&r, Err(UrdfProblem::Structure(e)) if e.contains("`drake:acceleration=\"")),
+                "{bad}: {r:?}"
+            );
+        }
+        assert_eq!(parse(&SLIDER.replace(r#" drake:acceleration="ACC""#, "")).unwrap().joints[0].acceleration, None);
     }
 }

@@ -105,8 +105,9 @@ pub struct Timeline<'a> {
 pub struct RateLimits {
     /// Per robot (scenario order), per actuated joint: |qd| at most this (URDF `velocity` × `speed`).
     pub velocity: Vec<Vec<f64>>,
-    /// |qdd| at most this for every joint (the planner's `acceleration` × `speed`).
-    pub acceleration: f64,
+    /// Per robot, per actuated joint: |qdd| at most this (the URDF's `drake:acceleration`
+    /// where it has one, else the planner's `acceleration`; × `speed`).
+    pub acceleration: Vec<Vec<f64>>,
 }
 
 /// How the replay samples and what it demands.

@@ -26,7 +26,8 @@ pub(super) fn check_tracks(world: &World, tl: &Timeline, limits: &RateLimits, ou
             continue;
         }
         let velocity = limits.velocity.get(tr.robot.index()).map_or(&[][..], Vec::as_slice);
-        check_rates(world, tr, velocity, limits.acceleration, out);
+        let acceleration = limits.acceleration.get(tr.robot.index()).map_or(&[][..], Vec::as_slice);
+        check_rates(world, tr, velocity, acceleration, out);
     }
     ok
 }
@@ -61,7 +62,7 @@ fn well_formed(world: &World, makespan: f64, tr: &Track, out: &mut Vec<Violation
 
 /// Joint positions, speeds and accelerations over every segment, at their exact extremes.
 /// One report per joint and kind: the first instant it happens.
-fn check_rates(world: &World, tr: &Track, velocity: &[f64], acceleration: f64, out: &mut Vec<Violation>) {
+fn check_rates(world: &World, tr: &Track, velocity: &[f64], acceleration: &[f64], out: &mut Vec<Violation>) {
     let robot = &world.scenario().robot(tr.robot).name;
     let names = world.joint_names(tr.robot);
     let limits = world.limits(tr.robot);
@@ -89,6 +90,7 @@ fn check_rates(world: &World, tr: &Track, velocity: &[f64], acceleration: f64, o
                 out.push(Violation::timed(Some(at(s)), v));
             }
             let (acc, s) = c.max_acceleration();
+            let acceleration = acceleration.get(j).copied().unwrap_or(f64::INFINITY);
             if !reported[j][2] && acc > acceleration * (1.0 + RATE_TOLERANCE) {
                 reported[j][2] = true;
                 let v = TimeViolation::TooHardAcceleration {

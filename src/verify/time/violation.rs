@@ -232,7 +232,7 @@ impl fmt::Display for TimeViolation {
             TooHardAcceleration { robot, joint, acceleration, limit } => write!(
                 f,
                 "robot `{robot}` joint `{joint}` accelerates at {acceleration:.4}/s², above the limit {limit:.4}/s² \
-                 (`acceleration` × `speed`)"
+                 (the URDF's or the planner's `acceleration`, × `speed`)"
             ),
             WaypointSkipped { action, phase, index } => write!(
                 f,
