@@ -21,6 +21,7 @@
 mod concurrent;
 mod profile;
 
+pub use concurrent::{SEPARATION, START_STEP};
 pub use profile::{Limits, Profile};
 
 use serde::{Deserialize, Serialize};
