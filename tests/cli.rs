@@ -174,6 +174,17 @@ fn a_proof_and_a_budget_give_up_exit_2_with_distinct_codes() {
 }
 
 #[test]
+fn an_ungraspable_target_says_why_per_robot_out_of_reach_or_hitting_a_named_body() {
+    for (name, says) in [("out_of_reach", "out of reach"), ("under_a_shelf", "fixed body `board`")] {
+        let o = run(&["compile", &format!("tests/fixtures/plan/{name}.dcl"), "--out", "/dev/null"]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        let err = stderr(&o);
+        assert!(err.contains("declutter::plan::ungraspable") && err.contains(says), "{err}");
+        insta::assert_snapshot!(format!("compile_{name}_stderr"), err);
+    }
+}
+
+#[test]
 fn compile_input_errors_exit_1_and_write_nothing() {
     let dir = TempDir::new("input-error");
     let missing = dir.path("missing.dcl");

@@ -218,7 +218,7 @@ fn walled_is_infeasible() {
     infeasible(
         "walled",
         &s,
-        "`can` cannot be reached: no robot can grasp `can` (`r1`: no grasp has an inverse-kinematics solution clear of fixed bodies; `r2`: no grasp has an inverse-kinematics solution clear of fixed bodies)",
+        "`can` cannot be reached: no robot can grasp `can` (`r1`: every inverse-kinematics solution collides (link `sah` hits fixed body `cage`); `r2`: every inverse-kinematics solution collides (link `sdh2` hits fixed body `cage`))",
     );
 }
 

@@ -48,6 +48,9 @@ pub enum Unreachable {
     /// No grasp of the object has an inverse-kinematics solution for this robot
     /// (or every solution collides with a fixed body).
     NoGraspSolution,
+    /// As [`Unreachable::NoGraspSolution`], with the world's reason for this robot: out of
+    /// reach, every inverse-kinematics solution hits a named body, or no grasp fits its hand.
+    NoGrasp { why: String },
     /// Grasp configurations exist, but every pre-grasp, straight approach or retreat
     /// carrying the object hits something fixed: what the first hit of each grasp was
     /// (one entry per distinct block, in grasp order).

@@ -68,6 +68,9 @@ impl Space for RobotSpace<'_> {
     fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held {
         self.world.held(self.robot, o, q_grasp)
     }
+    fn why_no_grasp(&self, o: ObjectId) -> Option<String> {
+        Some(crate::world::why_ungraspable(self.world, self.robot, o))
+    }
 }
 
 /// PRMwO roadmaps for every robot of a world. Queries for one robot share its

@@ -40,4 +40,8 @@ pub trait Space: Sync {
     fn grasps(&self, o: ObjectId) -> Vec<GraspConfig>;
     /// The object `o` as carried after grasping it at `q_grasp`.
     fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held;
+    /// Why `grasps(o)` is empty, in words naming the cause, where the space can tell.
+    fn why_no_grasp(&self, _o: ObjectId) -> Option<String> {
+        None
+    }
 }

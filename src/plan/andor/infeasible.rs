@@ -152,6 +152,7 @@ pub fn describe(scn: &Scenario, u: &Unreachable) -> String {
 fn describe_for(scn: &Scenario, u: &Unreachable, aim: Aim) -> String {
     match (u, aim) {
         (Unreachable::NoGraspSolution, _) => "no grasp has an inverse-kinematics solution clear of fixed bodies".into(),
+        (Unreachable::NoGrasp { why }, _) => why.clone(),
         (Unreachable::ApproachBlocked { blockers }, _) if blockers.is_empty() => {
             "every grasp's pre-grasp touches the object itself".into()
         }

@@ -156,7 +156,10 @@ impl<S: Space> RobotPlanner<S> {
                     }
                 };
                 if grasps.is_empty() {
-                    return Err(Unreachable::NoGraspSolution);
+                    return Err(match self.space.why_no_grasp(*o) {
+                        Some(why) => Unreachable::NoGrasp { why },
+                        None => Unreachable::NoGraspSolution,
+                    });
                 }
                 let (goals, blockers) = self.grasp_goals(*o, grasps, checks);
                 if goals.is_empty() {
