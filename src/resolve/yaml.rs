@@ -105,6 +105,8 @@ pub fn to_yaml_with_joints(s: &Scenario, joints: &[Vec<JointInfo>]) -> String {
     line(&mut w, 2, "time_budget", &p.time_budget.map_or_else(|| "null".to_string(), num));
     line(&mut w, 2, "neighbours", &p.neighbours.to_string());
     line(&mut w, 2, "first_path", if p.first_path { "true" } else { "false" });
+    line(&mut w, 2, "acceleration", &num(p.acceleration));
+    line(&mut w, 2, "speed", &num(p.speed));
     w
 }
 

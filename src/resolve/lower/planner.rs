@@ -69,66 +69,26 @@ impl Lower<'_> {
                     }
                 }
                 ("resolution", ast::Value::Quantity(q)) => {
-                    if let Some(v) = self.ok(convert(q, Kind::Angle)) {
-                        if v <= 0.0 || v > PI / 2.0 {
-                            self.errors.push(ResolveError::OutOfRange {
-                                what: "`resolution`".to_string(),
-                                limit: "greater than 0 and at most 90deg".to_string(),
-                                value: written(q),
-                                span: q.span,
-                                help: Some("a typical resolution is 1deg to 5deg".to_string()),
-                            });
-                        } else {
-                            p.resolution = v;
-                        }
+                    let help = "a typical resolution is 1deg to 5deg";
+                    if let Some(v) = self.up_to(q, Kind::Angle, PI / 2.0, key, "90deg", Some(help)) {
+                        p.resolution = v;
                     }
                 }
                 ("time_budget", ast::Value::Quantity(q)) => {
-                    if let Some(v) = self.ok(convert(q, Kind::Time)) {
-                        if v <= 0.0 || v > 86_400.0 {
-                            self.errors.push(ResolveError::OutOfRange {
-                                what: "`time_budget`".to_string(),
-                                limit: "greater than 0 and at most one day (86400s)".to_string(),
-                                value: written(q),
-                                span: q.span,
-                                help: None,
-                            });
-                        } else {
-                            p.time_budget = Some(v);
-                        }
+                    if let Some(v) = self.up_to(q, Kind::Time, 86_400.0, key, "one day (86400s)", None) {
+                        p.time_budget = Some(v);
                     }
                 }
                 ("acceleration", ast::Value::Quantity(q)) => {
-                    if let Some(v) = self.ok(convert(q, Kind::Acceleration)) {
-                        if v <= 0.0 || v > 1000.0 {
-                            self.errors.push(ResolveError::OutOfRange {
-                                what: "`acceleration`".to_string(),
-                                limit: "greater than 0 and at most 1000rad/s2".to_string(),
-                                value: written(q),
-                                span: q.span,
-                                help: Some("a typical arm accelerates its joints at 1rad/s2 to 10rad/s2".to_string()),
-                            });
-                        } else {
-                            p.acceleration = v;
-                        }
+                    let help = "a typical arm accelerates its joints at 1rad/s2 to 10rad/s2";
+                    if let Some(v) = self.up_to(q, Kind::Acceleration, 1000.0, key, "1000rad/s2", Some(help)) {
+                        p.acceleration = v;
                     }
                 }
                 ("speed", ast::Value::Quantity(q)) => {
-                    if let Some(v) = self.ok(convert(q, Kind::Count)) {
-                        if v <= 0.0 || v > 1.0 {
-                            self.errors.push(ResolveError::OutOfRange {
-                                what: "`speed`".to_string(),
-                                limit: "greater than 0 and at most 1".to_string(),
-                                value: written(q),
-                                span: q.span,
-                                help: Some(
-                                    "`speed` scales the URDF's velocity limits and `acceleration`: 0.5 is half speed"
-                                        .to_string(),
-                                ),
-                            });
-                        } else {
-                            p.speed = v;
-                        }
+                    let help = "`speed` scales the URDF's velocity limits and `acceleration`: 0.5 is half speed";
+                    if let Some(v) = self.up_to(q, Kind::Count, 1.0, key, "1", Some(help)) {
+                        p.speed = v;
                     }
                 }
                 ("objective", ast::Value::Ident(i)) => match i.name.as_str() {
@@ -158,5 +118,29 @@ impl Lower<'_> {
             }
         }
         p
+    }
+
+    /// `q` as a `kind` in (0, `max`]; outside, an error saying the range (`max_text`).
+    fn up_to(
+        &mut self,
+        q: &ast::Quantity,
+        kind: Kind,
+        max: f64,
+        key: &str,
+        max_text: &str,
+        help: Option<&str>,
+    ) -> Option<f64> {
+        let v = self.ok(convert(q, kind))?;
+        if v <= 0.0 || v > max {
+            self.errors.push(ResolveError::OutOfRange {
+                what: format!("`{key}`"),
+                limit: format!("greater than 0 and at most {max_text}"),
+                value: written(q),
+                span: q.span,
+                help: help.map(str::to_string),
+            });
+            return None;
+        }
+        Some(v)
     }
 }
