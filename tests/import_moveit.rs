@@ -106,6 +106,9 @@ fn scene_and_request_become_a_scenario_with_the_scenes_poses() {
         Target::Config { q, .. } => assert_eq!(q.values, [-0.5, 0.3, 1.2, 0.0, 1.4, 0.3]),
         t => panic!("target {t:?}"),
     }
+    // MoveIt's scaling factors (velocity 0.5, acceleration 0.25): `speed` is the smaller,
+    // with a warning (pinned above) that one factor scales both.
+    assert_eq!(scn.planner.speed, 0.25);
     // The written scenario passes the full check too (URDFs and meshes load).
     let (code, stderr) = run(&["check", out.to_str().unwrap()], &dir);
     assert_eq!(code, 0, "{stderr}");

@@ -154,6 +154,8 @@ pub fn planner(out: &mut String, p: &PlannerSettings) {
     if let Some(t) = p.time_budget {
         let _ = writeln!(out, "    time_budget {}s", num(t));
     }
+    let _ = writeln!(out, "    acceleration {}rad/s2", num(p.acceleration));
+    let _ = writeln!(out, "    speed {}", num(p.speed));
     out.push_str("}\n");
 }
 

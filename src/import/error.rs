@@ -186,6 +186,22 @@ pub enum ImportWarning {
         span: Option<Span>,
     },
 
+    #[error("the request scales velocities by {velocity} and accelerations by {acceleration}; declutter's one `speed` scales both, so it is {speed}")]
+    #[diagnostic(
+        code(declutter::import::scaling),
+        severity(Warning),
+        help("`speed` takes the smaller factor, so neither scaled limit is exceeded; the other is scaled further than the request asks")
+    )]
+    Scaling { velocity: f64, acceleration: f64, speed: f64 },
+
+    #[error("`{field}` is {value}, not in (0, 1]: not imported")]
+    #[diagnostic(
+        code(declutter::import::scaling_range),
+        severity(Warning),
+        help("MoveIt's scaling factors are fractions of the joints' limits")
+    )]
+    ScalingRange { field: String, value: f64 },
+
     #[error("poses in frame `{frame}` are taken as world-frame poses")]
     #[diagnostic(
         code(declutter::import::frame),
@@ -253,7 +269,13 @@ impl Located for ImportWarning {
         use ImportWarning::*;
         match self {
             Renamed { span, .. } | Cone { span, .. } | Operation { span, .. } | ZeroQuaternion { span, .. } => *span,
-            UnsupportedField { .. } | Frame { .. } | AcmPair { .. } | NoGrasps { .. } | CellObjects { .. } => None,
+            UnsupportedField { .. }
+            | Frame { .. }
+            | AcmPair { .. }
+            | NoGrasps { .. }
+            | CellObjects { .. }
+            | Scaling { .. }
+            | ScalingRange { .. } => None,
         }
     }
 }

@@ -280,7 +280,36 @@ impl Importer<'_> {
         for b in &cell.fixed {
             emit::fixed(out, b, dir);
         }
-        emit::planner(out, &cell.planner);
+        let mut planner = cell.planner.clone();
+        if let Some(speed) = req.and_then(|r| self.speed(r)) {
+            planner.speed = speed;
+        }
+        emit::planner(out, &planner);
+    }
+
+    /// `speed` from the request's scaling factors: the smaller of those set (MoveIt's 0
+    /// is unset), so neither scaled limit is exceeded; `None` when neither is set.
+    fn speed(&mut self, r: &MotionPlanRequest) -> Option<f64> {
+        let mut factor = |field: &str, value: f64| {
+            if value == 0.0 {
+                None
+            } else if value > 0.0 && value <= 1.0 {
+                Some(value)
+            } else {
+                self.warnings.push(ImportWarning::ScalingRange { field: field.to_string(), value });
+                None
+            }
+        };
+        let v = factor("max_velocity_scaling_factor", r.max_velocity_scaling_factor);
+        let a = factor("max_acceleration_scaling_factor", r.max_acceleration_scaling_factor);
+        match (v, a) {
+            (Some(v), Some(a)) if v != a => {
+                let speed = v.min(a);
+                self.warnings.push(ImportWarning::Scaling { velocity: v, acceleration: a, speed });
+                Some(speed)
+            }
+            (v, a) => v.or(a),
+        }
     }
 
     /// The robot and configuration of the request's first joint goal.

@@ -147,6 +147,11 @@ pub struct MotionPlanRequest {
     pub start_state: Option<RobotState>,
     #[serde(default)]
     pub goal_constraints: Vec<Constraints>,
+    /// MoveIt's scaling of the joints' velocity and acceleration limits; 0 (or absent) is unset.
+    #[serde(default)]
+    pub max_velocity_scaling_factor: f64,
+    #[serde(default)]
+    pub max_acceleration_scaling_factor: f64,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -179,7 +184,18 @@ const SCENE_FIELDS: &[(&str, &[&str])] = &[
 ];
 
 const REQUEST_FIELDS: &[(&str, &[&str])] = &[
-    ("", &["start_state", "goal_constraints", "group_name", "num_planning_attempts", "allowed_planning_time"]),
+    (
+        "",
+        &[
+            "start_state",
+            "goal_constraints",
+            "group_name",
+            "num_planning_attempts",
+            "allowed_planning_time",
+            "max_velocity_scaling_factor",
+            "max_acceleration_scaling_factor",
+        ],
+    ),
     ("start_state", &["joint_state", "is_diff"]),
     ("start_state.joint_state", &["header", "name", "position", "velocity", "effort"]),
     ("goal_constraints.*", &["name", "joint_constraints"]),
