@@ -183,6 +183,17 @@ fn single_arm_cereal_box_before_the_mug() {
 
 #[test]
 #[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn split_lid_one_half_lid_per_arm_then_the_can() {
+    let (w, s) = compile("split_lid");
+    assert_eq!(s.removed, ["lid_a", "lid_b"]);
+    assert_eq!(actions(&s), pairs(&[("r1", "lid_a"), ("r2", "lid_b"), ("r1", "can")]));
+    // The half lids wait for nothing; the can waits for both.
+    assert_eq!(s.actions.iter().map(|a| a.after.clone()).collect::<Vec<_>>(), [vec![], vec![], vec![1, 2]]);
+    solved("split_lid", &w, &s);
+}
+
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
 fn three_arm_third_robot_clears_the_way() {
     let (w, s) = compile("three_arm");
     assert_eq!(w.scenario().robots.len(), 3);

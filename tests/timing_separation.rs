@@ -3,22 +3,13 @@
 //! the compiled schedules of the shipped two-arm examples, by exact distances (not the
 //! placement's own jumps ahead).
 
-use std::path::Path;
+mod time_support;
 
-use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::RobotId;
 use declutter::schedule::{EventKind, Schedule};
 use declutter::timing::{hermite, SEPARATION};
-use declutter::world::{self, Held, RobotAt, World, WorldOptions};
-
-fn compiled(name: &str) -> (World, Schedule) {
-    let path = format!("examples/{name}.dcl");
-    let mut sources = SourceMap::new();
-    let scn = declutter::resolve::resolve(Path::new(&path), &FsLoader, &mut sources).expect("resolves");
-    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-    let planned = declutter::driver::plan_verified(&w, &|_| {}).unwrap_or_else(|v| panic!("{name}: {v:#?}"));
-    (w, planned.schedule)
-}
+use declutter::world::{Held, RobotAt, World};
+use time_support::compiled;
 
 /// What robot `r` holds at `t`, as the schedule's events say.
 fn held_at(w: &World, s: &Schedule, r: RobotId, t: f64) -> Option<Held> {
@@ -72,8 +63,8 @@ fn closest(w: &World, s: &Schedule) -> Option<(f64, f64)> {
 #[test]
 #[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
 fn robots_working_at_once_keep_their_separation_at_every_millisecond() {
-    for name in ["box_lid", "cans_3", "cans_5", "clutter", "three_arm"] {
-        let (w, s) = compiled(name);
+    for name in ["box_lid", "cans_3", "cans_5", "clutter", "three_arm", "split_lid"] {
+        let (w, s) = compiled(&format!("examples/{name}.dcl"));
         let overlap = closest(&w, &s);
         // Each of these has actions of two robots running at once.
         let (d, t) = overlap.unwrap_or_else(|| panic!("{name}: no two robots ever work at once"));

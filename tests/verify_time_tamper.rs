@@ -2,21 +2,13 @@
 //! test each, and the shifted start of the shelf's second arm names both robots, their
 //! bodies and the time.
 
-use std::path::Path;
+mod time_support;
 
-use declutter::diag::{FsLoader, SourceMap};
 use declutter::schedule::{EventKind, Schedule};
 use declutter::verify::time::{Obstacle, Party, TimeViolation};
 use declutter::verify::{self, Location, ViolationKind};
-use declutter::world::{self, World, WorldOptions};
-
-fn compiled(file: &str) -> (World, Schedule) {
-    let mut sources = SourceMap::new();
-    let scn = declutter::resolve::resolve(Path::new(file), &FsLoader, &mut sources).expect("example resolves");
-    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("example world builds");
-    let planned = declutter::driver::plan_verified(&w, &|_| {}).unwrap_or_else(|v| panic!("{v:#?}"));
-    (w, planned.schedule)
-}
+use declutter::world::World;
+use time_support::{compiled, shift_earlier};
 
 /// The violations found in time.
 fn timed(w: &World, s: &Schedule) -> Vec<(Location, TimeViolation)> {
@@ -29,29 +21,6 @@ fn timed(w: &World, s: &Schedule) -> Vec<(Location, TimeViolation)> {
                 _ => None,
             })
             .collect(),
-    }
-}
-
-/// Moves robot `robot`'s motion from `from` seconds on earlier by `by` seconds (it must be
-/// idle in `from - by .. from`), with its actions and events; it then holds its last
-/// configuration to the makespan.
-fn shift_earlier(s: &mut Schedule, robot: &str, from: f64, by: f64) {
-    let tr = s.trajectories.iter_mut().find(|t| t.robot == robot).expect("the robot's trajectory");
-    tr.points.retain(|p| p.t < from - by || p.t >= from);
-    for p in tr.points.iter_mut().filter(|p| p.t >= from) {
-        p.t -= by;
-    }
-    let mut last = tr.points.last().cloned().expect("points");
-    if last.t < s.makespan {
-        last.t = s.makespan;
-        tr.points.push(last);
-    }
-    for a in s.actions.iter_mut().filter(|a| a.robot == robot && a.start >= from) {
-        a.start -= by;
-        a.end -= by;
-    }
-    for e in s.events.iter_mut().filter(|e| e.robot == robot && e.t >= from) {
-        e.t -= by;
     }
 }
 

@@ -41,7 +41,9 @@ pub const SEPARATION: f64 = 0.005;
 const MIN_ADVANCE: f64 = 0.002;
 
 /// Start times tried, in seconds after an action's lower bound.
-pub const START_STEP: f64 = 0.05;
+pub const START_STEP: f64 = 1.0 / STARTS_PER_SECOND;
+/// `k / 20` is exact where `k * 0.05` is not (1.2, not 1.2000000000000002).
+const STARTS_PER_SECOND: f64 = 20.0;
 
 /// Shapes' boxes nearer than this get an exact distance.
 const NEAR: f64 = 0.1;
@@ -192,7 +194,7 @@ pub(super) fn place(world: &World, robots: &[RobotTiming], motions: &[Motion]) -
         };
         let mut k = 0u32;
         let chosen = loop {
-            let start = lower + f64::from(k) * START_STEP;
+            let start = lower + f64::from(k) / STARTS_PER_SECOND;
             if start >= others_done {
                 let (a, run) = make_run(others_done);
                 if safe(&run) {

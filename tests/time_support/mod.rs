@@ -3,10 +3,14 @@
 //! shapes and every robot shape against what is in place, by parry's contact depth.
 #![allow(dead_code)]
 
+use std::path::Path;
+
+use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::{ObjectId, RobotId};
+use declutter::schedule::Schedule;
 use declutter::verify::time::hermite::Cubic;
 use declutter::verify::time::{EventKind, Timeline, Track};
-use declutter::world::{PosedShape, StaticOwner, World, CONTACT_TOLERANCE};
+use declutter::world::{self, PosedShape, StaticOwner, World, WorldOptions, CONTACT_TOLERANCE};
 use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::query;
 
@@ -181,4 +185,36 @@ pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)
 /// The robot ids of a timeline's tracks, for messages.
 pub fn robots(tl: &Timeline) -> Vec<RobotId> {
     tl.tracks.iter().map(|t| t.robot).collect()
+}
+
+/// The schedule `compile` writes for a scenario file, with its world.
+pub fn compiled(file: &str) -> (World, Schedule) {
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(Path::new(file), &FsLoader, &mut sources).expect("example resolves");
+    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("example world builds");
+    let planned = declutter::driver::plan_verified(&w, &|_| {}).unwrap_or_else(|v| panic!("{v:#?}"));
+    (w, planned.schedule)
+}
+
+/// Moves robot `robot`'s motion from `from` seconds on earlier by `by` seconds (it must be
+/// idle in `from - by .. from`), with its actions and events; it then holds its last
+/// configuration to the makespan.
+pub fn shift_earlier(s: &mut Schedule, robot: &str, from: f64, by: f64) {
+    let tr = s.trajectories.iter_mut().find(|t| t.robot == robot).expect("the robot's trajectory");
+    tr.points.retain(|p| p.t < from - by || p.t >= from);
+    for p in tr.points.iter_mut().filter(|p| p.t >= from) {
+        p.t -= by;
+    }
+    let mut last = tr.points.last().cloned().expect("points");
+    if last.t < s.makespan {
+        last.t = s.makespan;
+        tr.points.push(last);
+    }
+    for a in s.actions.iter_mut().filter(|a| a.robot == robot && a.start >= from) {
+        a.start -= by;
+        a.end -= by;
+    }
+    for e in s.events.iter_mut().filter(|e| e.robot == robot && e.t >= from) {
+        e.t -= by;
+    }
 }
