@@ -1,5 +1,5 @@
-//! What `declutter show` puts in its page, checked without a browser: the nominal
-//! timeline of an untimed schedule, and the scene blob's geometry and keyframes against
+//! What `declutter show` puts in its page, checked without a browser: the schedule's own
+//! timeline (both arms at once), and the scene blob's geometry and keyframes against
 //! the world's own kinematics. Planning is geometric: run with `--release`.
 
 use std::path::Path;
@@ -7,7 +7,7 @@ use std::path::Path;
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::Target;
 use declutter::schedule::Schedule;
-use declutter::show::{self, KEYFRAME_STEP, NOMINAL_SPEED};
+use declutter::show::{self, KEYFRAME_STEP};
 use declutter::world::{self, World, WorldOptions};
 use serde_json::Value;
 
@@ -36,35 +36,41 @@ fn pose_of(v: &Value, frame: usize, track: usize) -> Vec<f64> {
 }
 
 #[test]
-fn an_untimed_schedule_runs_one_action_after_another_at_the_nominal_speed() {
+fn the_page_plays_the_schedules_own_time_both_arms_at_once() {
     let (w, s) = box_lid();
     let scn = w.scenario();
-    let tl = show::untimed(&w, Some(&s));
-    assert_eq!(s.removed, ["lid", "can"]);
+    let tl = show::timeline(&w, Some(&s));
+    assert_eq!(s.removed, ["lid"]);
     let (r1, r2) = (scn.robot_by_name("r1").unwrap(), scn.robot_by_name("r2").unwrap());
     let (lid, can) = (tl.actions[0].clone(), tl.actions[1].clone());
-    assert_eq!((lid.start, can.start), (0.0, lid.end), "the second action starts when the first ends");
-    assert_eq!(tl.duration, can.end);
-    // r1 waits at home through the lid's removal.
-    assert_eq!(tl.tracks[r1.index()].sample(lid.end), w.home(r1).to_vec());
-    // Each segment takes its largest joint move at 1 rad/s.
+    assert_eq!(tl.duration, s.makespan);
+    assert_eq!(
+        (lid.start, lid.end, can.start, can.end),
+        (s.actions[0].start, s.actions[0].end, s.actions[1].start, s.actions[1].end)
+    );
+    // The schedule is concurrent: r1 goes for the can while r2 still carries the lid away.
+    assert!(can.start < lid.end, "{} .. {}", can.start, lid.end);
+    let mid = 0.5 * (can.start + lid.end.min(can.end));
+    assert!(largest_step(&tl.tracks[r1.index()].sample(mid), w.home(r1)) > 0.1);
+    assert!(largest_step(&tl.tracks[r2.index()].sample(mid), w.home(r2)) > 0.1);
+    // Waypoints are reached in order, from the action's start to the grasp.
     let a = &s.actions[0].approach;
-    assert_eq!(NOMINAL_SPEED, 1.0);
-    assert!((lid.approach_t[2] - lid.approach_t[1] - largest_step(&a[1], &a[2])).abs() < 1e-12);
-    // The lid is grasped at the end of the approach and let go at r2's `drop`.
+    assert_eq!(lid.approach_t[0], lid.start);
+    assert!(lid.approach_t.windows(2).all(|p| p[0] < p[1]), "{:?}", lid.approach_t);
+    // The lid is grasped at the end of the approach and let go at r2's `drop`, as the
+    // schedule's events say.
     let events: Vec<_> = tl.events.iter().filter(|e| scn.object(e.object).body.name == "lid").collect();
     assert_eq!(events.len(), 2);
-    assert_eq!(events[0].t, lid.approach_t[2]);
-    assert_eq!(tl.tracks[r2.index()].sample(events[0].t), a[2]);
+    assert_eq!(events[0].t, *lid.approach_t.last().unwrap());
+    assert!(largest_step(&tl.tracks[r2.index()].sample(events[0].t), a.last().unwrap()) < 1e-12);
     let q_release = tl.tracks[r2.index()].sample(events[1].t);
     assert!(largest_step(&q_release, w.drop_config(r2)) < 1e-12, "released at {q_release:?}");
-    // The target is taken and kept.
-    let target = match scn.target {
-        Target::Object { object, .. } => object,
-        Target::Config { .. } => unreachable!(),
-    };
-    let kept: Vec<_> = tl.events.iter().filter(|e| e.object == target).collect();
-    assert_eq!(kept.len(), 1, "the target is grasped once and never released");
+    // Between two points the page follows the schedule's Hermite curve: mid-segment, the
+    // robot is neither at the segment's start nor its end.
+    let pts = &s.trajectories[r2.index()].points;
+    let k = pts.iter().position(|p| p.qd.iter().any(|v| v.abs() > 0.1)).expect("a moving point");
+    let q_mid = tl.tracks[r2.index()].sample(0.5 * (pts[k - 1].t + pts[k].t));
+    assert!(largest_step(&q_mid, &pts[k - 1].q) > 1e-3 && largest_step(&q_mid, &pts[k].q) > 1e-3);
 }
 
 #[test]
@@ -97,7 +103,7 @@ fn the_page_draws_the_world_and_carries_the_target_with_the_flange() {
     let expected: usize = scn.robot_ids().map(|r| w.drawn_robot(r).len() + 1).sum();
     assert_eq!(robot_bodies, expected);
 
-    // The can stands still until grasped, then rides with r1's flange to the end.
+    // The can stands still until grasped, then rides with r1's flange until released.
     let track = can["track"].as_u64().unwrap() as usize;
     let frames = v["frames"].as_u64().unwrap() as usize;
     assert_eq!(pose_of(&v, 0, track)[..3], [0.55, 0.0, 0.0675]);
@@ -110,7 +116,12 @@ fn the_page_draws_the_world_and_carries_the_target_with_the_flange() {
     for (g, e) in got[..3].iter().zip([t.x, t.y, t.z]) {
         assert!((g - e).abs() <= 1e-4, "can at {got:?}, expected {t:?}");
     }
-    assert!(can["released_at"].is_null() && body("lid")["released_at"].is_number());
+    // Both are released where their robots drop them: the can carried away at the end.
+    let release = |o: &str| {
+        s.events.iter().find(|e| e.object == o && e.kind == declutter::schedule::EventKind::Release).unwrap().t
+    };
+    assert_eq!(can["released_at"].as_f64(), Some((release("can") * 1e4).round() / 1e4));
+    assert!(body("lid")["released_at"].is_number());
 }
 
 #[test]

@@ -4,8 +4,8 @@
 //! In: a built world, optionally a schedule and what `verify` said about it. Out: an
 //! HTML string holding three.js (vendored, inlined), a small viewer script, and one
 //! JSON blob: every body's collision geometry as the world loaded it, and the world
-//! pose of every moving body at fixed keyframes, which the page interpolates. Where
-//! the time comes from is [`timeline`]'s business alone. Sits beside `verify` at the
+//! pose of every moving body at fixed keyframes, which the page interpolates. The time
+//! is the schedule's own (its trajectories and events), read in [`timeline`] alone. Sits beside `verify` at the
 //! end of the pipeline; only the driver calls it.
 
 mod page;
@@ -14,7 +14,7 @@ mod timeline;
 
 pub use page::{html, THREE_VERSION};
 pub use scene::{SceneData, KEYFRAME_STEP, MAX_KEYFRAMES};
-pub use timeline::{untimed, Timeline, NOMINAL_SPEED};
+pub use timeline::{timeline, Timeline};
 
 use crate::schedule::Schedule;
 use crate::verify::Violation;
@@ -22,6 +22,6 @@ use crate::world::World;
 
 /// The page for a world, and a schedule with its violations (none when it verified).
 pub fn show(world: &World, schedule: Option<&Schedule>, violations: &[Violation]) -> String {
-    let timeline = untimed(world, schedule);
+    let timeline = timeline(world, schedule);
     html(&scene::build(world, schedule, &timeline, violations))
 }

@@ -1,61 +1,34 @@
-//! When each robot is where: the schedule as joint values over time, and the moments
-//! objects are grasped and released. This is the one place that knows where time comes
-//! from; the sampler in `keyframes` only asks a [`Timeline`] for `q(t)`.
+//! When each robot is where: the schedule's own trajectories and events, read for the
+//! page. This is the one place that knows where time comes from; the keyframe sampler
+//! only asks a [`Timeline`] for `q(t)`.
 //!
-//! Today's schedules carry no time, so [`untimed`] gives one: actions one after another
-//! in id order, each segment taking as long as its largest joint move at
-//! [`NOMINAL_SPEED`]. A timed schedule will fill the same struct from its trajectories.
+//! Between two points of a trajectory the motion is the cubic Hermite curve through
+//! their positions and velocities ([`timing::hermite`]), as the schedule format says and
+//! a ROS controller plays it; robots move at once wherever the schedule has them do so.
+//! A point the robot cannot take (wrong length, not finite) is left out: `verify`
+//! reports it, and the page shows its report.
 
-use crate::resolve::{ObjectId, RobotId, Target};
-use crate::schedule::{Schedule, ScheduledAction};
+use crate::resolve::{ObjectId, RobotId};
+pub use crate::schedule::EventKind;
+use crate::schedule::Schedule;
+use crate::timing::{self, TrajPoint};
 use crate::verify::Phase;
 use crate::world::World;
 
-/// Joint speed of the nominal timing (rad/s, or m/s for a sliding joint).
-pub const NOMINAL_SPEED: f64 = 1.0;
-/// Pause at a grasp and at a release, so the moment can be seen.
-const DWELL: f64 = 0.3;
-/// No segment is shorter than this, so a tiny move still shows.
-const MIN_SEGMENT: f64 = 0.05;
-
-/// One robot's joint values at a time.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Point {
-    pub t: f64,
-    pub q: Vec<f64>,
-}
-
-/// A robot's motion: straight joint-space moves between points, still before the first
-/// and after the last.
+/// A robot's motion: still before the first point and after the last.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Track {
-    pub points: Vec<Point>,
+    pub points: Vec<TrajPoint>,
 }
 
 impl Track {
-    /// Joint values at `t`, interpolated.
+    /// Joint values at `t`.
     pub fn sample(&self, t: f64) -> Vec<f64> {
-        let p = &self.points;
-        let k = p.partition_point(|x| x.t <= t);
-        if k == 0 {
-            return p[0].q.clone();
-        }
-        if k == p.len() {
-            return p[k - 1].q.clone();
-        }
-        let (a, b) = (&p[k - 1], &p[k]);
-        let s = if b.t > a.t { (t - a.t) / (b.t - a.t) } else { 1.0 };
-        a.q.iter().zip(&b.q).map(|(x, y)| x + (y - x) * s).collect()
+        timing::hermite(&self.points, t)
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EventKind {
-    Grasp,
-    Release,
-}
-
-/// The hand closes on, or lets go of, an object.
+/// A schedule's event with its robot and object resolved in the world.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {
     pub t: f64,
@@ -76,84 +49,118 @@ pub struct ActionSpan {
 }
 
 impl ActionSpan {
-    /// The time of a waypoint, if the action has it.
+    /// The time of a waypoint, if the action has it and its trajectory passes it.
     pub fn waypoint_t(&self, phase: Phase, index: usize) -> Option<f64> {
         match phase {
             Phase::Approach => self.approach_t.get(index).copied(),
             Phase::Retreat => self.retreat_t.get(index).copied(),
         }
+        .filter(|t| t.is_finite())
     }
 }
 
 /// Every robot's motion over the whole schedule.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Timeline {
-    /// One per robot, in scenario order; a robot that never moves stays at home.
+    /// One per robot, in scenario order; a robot without a trajectory stays at home.
     pub tracks: Vec<Track>,
     pub events: Vec<Event>,
     pub actions: Vec<ActionSpan>,
     pub duration: f64,
 }
 
-/// True when `q` can be put through the robot's kinematics.
-fn usable(world: &World, r: RobotId, q: &[f64]) -> bool {
-    q.len() == world.dof(r) && q.iter().all(|v| v.is_finite())
-}
+/// How close (joint space, max over joints) a trajectory point must be to a waypoint to
+/// be where the robot reaches it.
+const AT_WAYPOINT: f64 = 1e-6;
 
 fn near(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-6)
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= AT_WAYPOINT)
 }
 
-/// The timeline of a schedule without time: actions in id order, one after another.
-/// Waypoints the robot cannot take (wrong length, not finite) are skipped: `verify`
-/// reports them, and the page shows its report.
-pub fn untimed(world: &World, schedule: Option<&Schedule>) -> Timeline {
+/// The timeline a schedule states; without a schedule, every robot at home.
+pub fn timeline(world: &World, schedule: Option<&Schedule>) -> Timeline {
     let scn = world.scenario();
-    let mut tracks: Vec<Track> =
-        scn.robot_ids().map(|r| Track { points: vec![Point { t: 0.0, q: world.home(r).to_vec() }] }).collect();
-    let mut events = Vec::new();
-    let mut spans = Vec::new();
-    let mut t = 0.0;
-    let mut order: Vec<&ScheduledAction> = schedule.map(|s| s.actions.iter().collect()).unwrap_or_default();
-    order.sort_by_key(|a| a.id);
-    let target = match scn.target {
-        Target::Object { object, .. } => Some(object),
-        Target::Config { .. } => None,
+    let home = |r: RobotId| Track {
+        points: vec![TrajPoint { t: 0.0, q: world.home(r).to_vec(), qd: vec![0.0; world.dof(r)] }],
     };
-    for a in order {
-        let start = t;
-        let robot = scn.robot_by_name(&a.robot);
-        let mut times = [Vec::new(), Vec::new()];
-        if let Some(r) = robot {
-            let object = a.object.as_deref().and_then(|n| scn.object_by_name(n));
-            let track = &mut tracks[r.index()];
-            // Where the object is let go: the first retreat waypoint at `drop`, else the last.
-            let drop = world.drop_config(r);
-            let release = a.retreat.iter().position(|q| near(q, drop)).unwrap_or(a.retreat.len().saturating_sub(1));
-            for (phase, waypoints) in [a.approach.as_slice(), a.retreat.as_slice()].into_iter().enumerate() {
-                for (i, q) in waypoints.iter().enumerate() {
-                    if usable(world, r, q) {
-                        let last = &track.points[track.points.len() - 1];
-                        let step = last.q.iter().zip(q).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-                        t += (step / NOMINAL_SPEED).max(MIN_SEGMENT);
-                        track.points.push(Point { t, q: q.clone() });
-                    }
-                    times[phase].push(t);
-                    let at_grasp = phase == 0 && i + 1 == waypoints.len();
-                    let at_release = phase == 1 && i == release && object != target;
-                    if let (Some(o), true) = (object, at_grasp || at_release) {
-                        let kind = if at_grasp { EventKind::Grasp } else { EventKind::Release };
-                        events.push(Event { t, robot: r, kind, object: o });
-                        // Hold still for a moment.
-                        let q = track.points[track.points.len() - 1].q.clone();
-                        t += DWELL;
-                        track.points.push(Point { t, q });
-                    }
-                }
+    let Some(s) = schedule else {
+        return Timeline {
+            tracks: scn.robot_ids().map(home).collect(),
+            events: Vec::new(),
+            actions: Vec::new(),
+            duration: 0.0,
+        };
+    };
+    let tracks: Vec<Track> = scn
+        .robot_ids()
+        .map(|r| {
+            let dof = world.dof(r);
+            let usable = |p: &&TrajPoint| {
+                p.t.is_finite()
+                    && p.q.len() == dof
+                    && p.qd.len() == dof
+                    && p.q.iter().chain(&p.qd).all(|v| v.is_finite())
+            };
+            let name = &scn.robot(r).name;
+            let points: Vec<TrajPoint> = s
+                .trajectories
+                .iter()
+                .find(|tr| &tr.robot == name)
+                .map(|tr| tr.points.iter().filter(usable).cloned().collect())
+                .unwrap_or_default();
+            if points.is_empty() {
+                home(r)
+            } else {
+                Track { points }
             }
-        }
-        let [approach_t, retreat_t] = times;
-        spans.push(ActionSpan { id: a.id, robot, start, end: t, approach_t, retreat_t });
-    }
-    Timeline { tracks, events, actions: spans, duration: t }
+        })
+        .collect();
+    let events = s
+        .events
+        .iter()
+        .filter_map(|e| {
+            Some(Event {
+                t: e.t,
+                robot: scn.robot_by_name(&e.robot)?,
+                kind: e.kind,
+                object: scn.object_by_name(&e.object)?,
+            })
+        })
+        .filter(|e| e.t.is_finite())
+        .collect();
+    let actions = s
+        .actions
+        .iter()
+        .map(|a| {
+            let robot = scn.robot_by_name(&a.robot);
+            // Each waypoint at the first point, from the action's start on, that is at it.
+            let mut from = a.start;
+            let mut times = |waypoints: &[Vec<f64>]| -> Vec<f64> {
+                waypoints
+                    .iter()
+                    .map(|w| {
+                        let hit = robot.and_then(|r| {
+                            tracks[r.index()]
+                                .points
+                                .iter()
+                                .find(|p| p.t >= from - 1e-9 && p.t <= a.end + 1e-9 && near(&p.q, w))
+                        });
+                        match hit {
+                            Some(p) => {
+                                from = p.t;
+                                p.t
+                            }
+                            None => f64::NAN,
+                        }
+                    })
+                    .collect()
+            };
+            let approach_t = times(&a.approach);
+            let retreat_t = times(&a.retreat);
+            ActionSpan { id: a.id, robot, start: a.start, end: a.end, approach_t, retreat_t }
+        })
+        .collect();
+    let last_point = tracks.iter().filter_map(|tr| tr.points.last()).map(|p| p.t).fold(0.0, f64::max);
+    let duration = if s.makespan.is_finite() && s.makespan >= 0.0 { s.makespan.max(last_point) } else { last_point };
+    Timeline { tracks, events, actions, duration }
 }

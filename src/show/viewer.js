@@ -300,6 +300,7 @@ if (targetIndex >= 0) {
   if (holderTcp >= 0) {
     report.target.to_tcp = p.distanceTo(groups[holderTcp].position);
     report.target.grasped_at = S.bodies[targetIndex].grasped_at;
+    report.target.released_at = S.bodies[targetIndex].released_at;
   }
 }
 $('report').textContent = JSON.stringify(report);
