@@ -5,7 +5,6 @@
 use std::path::Path;
 
 use declutter::diag::{FsLoader, SourceMap};
-use declutter::resolve::Target;
 use declutter::schedule::Schedule;
 use declutter::show::{self, KEYFRAME_STEP};
 use declutter::world::{self, World, WorldOptions};
