@@ -37,7 +37,7 @@ shot() {
 }
 shot box_lid-cell box_lid_cell.html at=0
 shot box_lid-lid box_lid.html at=0.42
-shot box_lid-end box_lid.html at=1
+shot box_lid-end box_lid.html t=4.4
 shot cans_5-middle cans_5.html at=0.3
 
 if [ "${1:-}" = --commit ]; then
