@@ -505,7 +505,7 @@ impl LoadCtx<'_> {
 
     fn load_hand(&mut self, file: &FileRef, meshes: &mut MeshCache) -> Option<HandModel> {
         let model = self.load_urdf(file)?;
-        let chain = match Chain::new(&model, None) {
+        let chain = match Chain::hand(&model) {
             Ok(c) => c,
             Err(ChainError::Structure(reason)) => {
                 self.errs.push(WorldError::UrdfStructure { path: file.written.clone(), reason, span: file.span });
@@ -513,8 +513,9 @@ impl LoadCtx<'_> {
             }
             Err(ChainError::UnknownFlange) => return None,
         };
-        // A hand is rigid: every joint at its frozen value (0 clamped into its limits).
-        let q: Vec<f64> = chain.limits.iter().map(|(lo, hi)| 0f64.clamp(*lo, *hi)).collect();
+        // A hand is rigid: its fingers stand open (at their upper limits), the chain has
+        // nothing to actuate.
+        let q: Vec<f64> = Vec::new();
         let mut poses = vec![Isometry3::identity(); chain.links.len()];
         chain.fk_into(&q, &mut poses);
         let mut bodies = Vec::new();

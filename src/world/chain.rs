@@ -2,9 +2,11 @@
 //! each joint's value drawn from the configuration, a mimic leader, or frozen.
 //!
 //! The configuration is the actuated (non-fixed, non-mimic) joints on the path
-//! from the root to the flange, in that order. Movable joints off that path (a
-//! gripper's fingers, say) stay at 0 clamped into their limits; mimic joints
-//! follow their leader wherever they are.
+//! from the root to the flange, in that order. Movable joints off that path stay at
+//! 0 clamped into their limits, except a gripper's fingers: the joints hanging from
+//! the links rigidly fixed to the flange, which stand open, at their upper limit, so
+//! that an object fits between them. Mimic joints follow their leader wherever they
+//! are.
 
 use nalgebra::{Isometry3, Matrix6xX, Translation3, UnitQuaternion, Vector3};
 use rand::RngExt;
@@ -67,6 +69,17 @@ impl Chain {
     /// one (ROS-Industrial's tool flange, +z out of the flange), else the deepest link,
     /// first in file order on ties.
     pub fn new(model: &Model, flange: Option<&str>) -> Result<Chain, ChainError> {
+        Chain::build(model, flange, false)
+    }
+
+    /// A hand's chain: rooted and ending at the hand's root link (it has no joints of its
+    /// own to actuate), every movable joint a finger, standing open.
+    pub fn hand(model: &Model) -> Result<Chain, ChainError> {
+        let root = model.links[model.root].name.clone();
+        Chain::build(model, Some(&root), true)
+    }
+
+    fn build(model: &Model, flange: Option<&str>, all_fingers: bool) -> Result<Chain, ChainError> {
         // Topological order, children in file order.
         let mut order = Vec::with_capacity(model.links.len());
         let mut stack = vec![model.root];
@@ -126,6 +139,25 @@ impl Chain {
                 }
             }
         }
+        // The links rigid with the flange (joined to it by fixed joints, up or down): a
+        // movable joint hanging from one, off the path, is a finger.
+        let mut rigid = vec![false; model.links.len()];
+        let mut todo = vec![flange_model];
+        while let Some(l) = todo.pop() {
+            if std::mem::replace(&mut rigid[l], true) {
+                continue;
+            }
+            if let Some(j) = model.links[l].parent_joint.filter(|&j| model.joints[j].motion == Motion::Fixed) {
+                todo.push(model.joints[j].parent);
+            }
+            for &j in &model.links[l].child_joints {
+                if model.joints[j].motion == Motion::Fixed {
+                    todo.push(model.joints[j].child);
+                }
+            }
+        }
+        let finger =
+            |j: usize| (all_fingers || rigid[model.joints[j].parent]) && model.joints[j].motion != Motion::Fixed;
         // Resolve every joint's value source, following mimic chains.
         let resolve = |j: usize| -> Result<Source, ChainError> {
             let (mut mult, mut offset, mut cur) = (1.0, 0.0, j);
@@ -145,7 +177,10 @@ impl Chain {
                             ChainError::Structure(format!("joint `{}` mimics an undefined joint", mj.name))
                         })?;
                     }
-                    None => return Ok(Source::Frozen(mult * 0f64.clamp(mj.lower, mj.upper) + offset)),
+                    None => {
+                        let v = if finger(cur) { mj.upper } else { 0f64.clamp(mj.lower, mj.upper) };
+                        return Ok(Source::Frozen(mult * v + offset));
+                    }
                 }
             }
             Err(ChainError::Structure(format!("the mimic joints around `{}` form a cycle", model.joints[j].name)))
