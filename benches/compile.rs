@@ -1,7 +1,8 @@
 //! End to end: each shipped example compiled (world built once, then planning, the
 //! AND/OR graph, the schedule and its verification), each also from the file (parse,
 //! resolve, URDFs, world, then the same: what the user waits for), and a scaling
-//! series of N cans around a target. Each is timed by wall clock and by process CPU time.
+//! series of N cans around a target, each timed by wall clock and by process CPU time;
+//! and the timing and verifying stages apart (`stage/`, wall clock).
 //!
 //! `RAYON_NUM_THREADS=1 cargo bench --bench compile` (one core)
 
@@ -79,9 +80,28 @@ fn scaling<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     g.finish();
 }
 
+/// The stages after planning, apart: timing a planned solution (the concurrent
+/// placement with its distance checks) and the verifier's replay of the schedule.
+fn stages(c: &mut Criterion) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut g = c.benchmark_group("stage");
+    g.sample_size(20);
+    for name in ["box_lid", "cans_3", "cans_5", "split_lid"] {
+        let w = world_of(&dir.join(format!("{name}.dcl")));
+        let planned = declutter::driver::plan_verified(&w, &|_| {}).expect("verifies");
+        let (sol, sched) = (&planned.solution, &planned.schedule);
+        g.bench_function(format!("timing/{name}"), |b| {
+            b.iter(|| declutter::schedule::build(&w, sol, declutter::schedule::Execution::Concurrent).makespan)
+        });
+        g.bench_function(format!("verify/{name}"), |b| b.iter(|| declutter::verify::verify(&w, sched).is_ok()));
+    }
+    g.finish();
+}
+
 fn wall(c: &mut Criterion) {
     examples(c, "");
     scaling(c, "");
+    stages(c);
 }
 
 fn cpu(c: &mut Criterion<CpuTime>) {
