@@ -11,6 +11,10 @@ use crate::world::{JointReach, ObjectSet, World};
 
 /// Samples the timeline from 0 to the makespan; returns the number of instants checked.
 /// Each pair of things too close is reported once, at the first instant found.
+/// A robot at one instant as far as its own checks go: configuration, object held,
+/// object it may touch.
+type Stance = (Vec<f64>, Option<ObjectId>, Option<ObjectId>);
+
 pub(super) fn run(
     world: &World,
     tl: &Timeline,
@@ -29,6 +33,11 @@ pub(super) fn run(
     let mut reported: Vec<(f64, Finding)> = Vec::new();
     let mut peak = Vec::new();
     let mut samples = 0u64;
+    // What each robot was last checked with: (q, held object, exempt object), and how
+    // many objects were in place then (they only ever disappear).
+    let mut last: Vec<Option<Stance>> = vec![None; tracks.len()];
+    let mut last_present = usize::MAX;
+    let mut still = vec![false; tracks.len()];
     let mut sample = |t: f64, samples: &mut u64| {
         *samples += 1;
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
@@ -58,8 +67,15 @@ pub(super) fn run(
                     .map(|c| c.object),
             })
             .collect();
+        let in_place = present.len();
+        for (ri, ra) in at.iter().enumerate() {
+            let now = (ra.q.to_vec(), ra.held.map(|h| h.object), ra.exempt);
+            still[ri] = in_place <= last_present && last[ri].as_ref() == Some(&now);
+            last[ri] = Some(now);
+        }
+        last_present = in_place;
         found.clear();
-        cell.check(&at, &present, &mut scratch, &mut found);
+        cell.check(&at, &present, &still, &mut scratch, &mut found);
         for f in found.drain(..) {
             if !reported.iter().any(|(_, r)| r.0 == f.0 && r.1 == f.1) {
                 reported.push((t, f));

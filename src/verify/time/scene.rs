@@ -65,8 +65,18 @@ impl<'w> Cell<'w> {
         Cell { world, statics, bvh, robots, clearance }
     }
 
-    /// Everything too close at this instant. `present`: objects in place.
-    pub fn check(&self, at: &[RobotAt], present: &ObjectSet, s: &mut Scratch, found: &mut Vec<Finding>) {
+    /// Everything too close at this instant. `present`: objects in place. `still[r]`:
+    /// robot `r` stands, holds and may touch exactly as at the previous instant checked,
+    /// and no object has appeared since; its checks against the scene and itself would
+    /// find what they found then, so they are skipped (as is a pair of two such robots).
+    pub fn check(
+        &self,
+        at: &[RobotAt],
+        present: &ObjectSet,
+        still: &[bool],
+        s: &mut Scratch,
+        found: &mut Vec<Finding>,
+    ) {
         let w = self.world;
         let c = self.clearance;
         s.posed.resize_with(at.len(), Vec::new);
@@ -82,8 +92,9 @@ impl<'w> Cell<'w> {
                 robot: g.name.clone(),
                 object: w.scenario().object(h.object).body.name.clone(),
             };
+            let again = still.get(ri).copied().unwrap_or(false);
             // Moving bodies against the scene, with the clearance.
-            for ps in s.posed[ri].iter().filter(|ps| g.bodies[ps.body].moving) {
+            for ps in s.posed[ri].iter().filter(|ps| !again && g.bodies[ps.body].moving) {
                 let skip = |o: ObjectId| {
                     !present.contains(o) || Some(o) == ra.exempt || ra.held.is_some_and(|h| h.object == o)
                 };
@@ -92,14 +103,14 @@ impl<'w> Cell<'w> {
                 }
             }
             // Self-collision over the unpruned pairs: contact only.
-            for &(a, b) in &g.self_pairs {
+            for &(a, b) in g.self_pairs.iter().filter(|_| !again) {
                 let of = |k: usize| s.posed[ri].iter().filter(move |x| x.body == k);
                 if of(a).any(|x| of(b).any(|y| near(Side::of(x), Side::of(y), 0.0).is_some())) {
                     push(found, body(a), Obstacle::Moving(body(b)), None);
                 }
             }
             // The carried object: against the scene and its carrier's own links, contact only.
-            if let Some(h) = ra.held {
+            if let Some(h) = ra.held.filter(|_| !again) {
                 for part in &s.held[ri] {
                     let skip = |o: ObjectId| !present.contains(o) || o == h.object;
                     if let Some((obs, d)) = self.against_statics(Side::held(part), 0.0, skip) {
@@ -115,6 +126,9 @@ impl<'w> Cell<'w> {
             }
             // Against every later robot and what it carries, with the clearance.
             for (rj, rb) in at.iter().enumerate().skip(ri + 1) {
+                if again && still.get(rj).copied().unwrap_or(false) {
+                    continue;
+                }
                 let gj = &self.robots[rj];
                 let other = |b: usize| Party::Body { robot: gj.name.clone(), body: gj.bodies[b].name.clone() };
                 let other_carried = |h: &Held| Party::Held {
