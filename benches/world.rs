@@ -59,6 +59,8 @@ fn world(objects: usize) -> World {
         home: JointValues { values: home, span: Span::default(), units: Vec::new() },
         drop: None,
         allow_contact: vec![],
+        open: None,
+        closed: None,
     };
     // Table top at z 0.40 in front of the robot; objects standing on it in a grid.
     let table = body("table".into(), Shape::Box { size: Vector3::new(1.2, 1.6, 0.1) }, at(0.95, 0.0, 0.35));

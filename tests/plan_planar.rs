@@ -71,7 +71,7 @@ fn grasp_queries_label_the_whole_motion() {
     // Up to the pre-grasp the path touches nothing; the last step is the approach, where the lid is ignored.
     let n = found.approach.0.len();
     assert!(path_is_free(&w, &JointPath(found.approach.0[..n - 1].to_vec()), &ObjectSet::new(), None));
-    let held = w.held(ObjectId(1), &found.retreat.0[0]);
+    let held = w.held(ObjectId(1), 0, &found.retreat.0[0]);
     let carry = Mode { absent: ObjectSet::single(ObjectId(1)), held: Some(held) };
     let mut c = 0;
     assert!(found.retreat.0.windows(2).all(|s| w.check_segment(&s[0], &s[1], 0.01, &carry, &mut c) == Check::free()));
@@ -311,8 +311,8 @@ impl Space for Points {
     fn grasps(&self, _: ObjectId) -> Vec<declutter::world::GraspConfig> {
         Vec::new()
     }
-    fn held(&self, o: ObjectId, _: &[f64]) -> declutter::world::Held {
-        declutter::world::Held { object: o, pose_flange_object: nalgebra::Isometry3::identity() }
+    fn held(&self, o: ObjectId, _: usize, _: &[f64]) -> declutter::world::Held {
+        declutter::world::Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }
     }
 }
 

@@ -40,7 +40,7 @@ fn box_lid_can_needs_the_lid_removed_and_the_lid_is_free() {
         assert_eq!(f.removals, ObjectSet::new(), "{}: lid", scn.robot(r).name);
         let n = f.approach.0.len();
         assert!(free_along(&w, r, &f.approach.0[..n - 1], &CheckCtx::new()));
-        let held = w.held(r, lid, &f.retreat.0[0]);
+        let held = w.held(r, lid, f.grasp.unwrap_or(0), &f.retreat.0[0]);
         assert!(free_along(&w, r, &f.retreat.0, &CheckCtx::with_held(ObjectSet::single(lid), held)));
 
         let a = planner.find_path(r, &Goal::Grasp(can));
@@ -51,7 +51,7 @@ fn box_lid_can_needs_the_lid_removed_and_the_lid_is_free() {
         assert!(free_along(&w, r, &f.approach.0[..f.approach.0.len() - 1], &CheckCtx::with_absent(gone.clone())));
         let mut absent = gone.clone();
         absent.insert(can);
-        let held = w.held(r, can, &f.retreat.0[0]);
+        let held = w.held(r, can, f.grasp.unwrap_or(0), &f.retreat.0[0]);
         assert!(free_along(&w, r, &f.retreat.0, &CheckCtx::with_held(absent, held)));
         assert!(a.stats.reused_vertices > 0);
         // Both objectives on the same roadmap.

@@ -108,7 +108,7 @@ fn the_page_draws_the_world_and_carries_the_target_with_the_flange() {
     assert_eq!(pose_of(&v, 0, track)[..3], [0.55, 0.0, 0.0675]);
     let r1 = scn.robot_by_name("r1").unwrap();
     let a = &s.actions[1];
-    let held = w.held(r1, scn.object_by_name("can").unwrap(), a.approach.last().unwrap());
+    let held = w.held(r1, scn.object_by_name("can").unwrap(), 0, a.approach.last().unwrap());
     let expected = w.fk_flange(r1, a.retreat.last().unwrap()) * held.pose_flange_object;
     let got = pose_of(&v, frames - 1, track);
     let t = expected.translation.vector;

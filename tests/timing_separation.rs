@@ -23,7 +23,9 @@ fn held_at(w: &World, s: &Schedule, r: RobotId, t: f64) -> Option<Held> {
             return None;
         }
         let o = w.scenario().object_ids().find(|&o| w.scenario().object(o).body.name == g.object)?;
-        Some(w.held(r, o, &hermite(&traj.points, g.t)))
+        let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(&g.object)).and_then(|a| a.grasp.as_ref());
+        let grasp = w.scenario().object(o).grasps.iter().position(|x| Some(&x.name) == grasp)?;
+        Some(w.held(r, o, grasp, &hermite(&traj.points, g.t)))
     })
 }
 

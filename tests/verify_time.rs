@@ -194,8 +194,8 @@ fn carry(grasp_t: f64, release_t: f64, p2_in: bool) -> (Vec<Vec<f64>>, Vec<Vec<f
             },
         ],
         events: vec![
-            Event { t: grasp_t, robot: P1, kind: EventKind::Grasp, object: ObjectId(0) },
-            Event { t: release_t, robot: P1, kind: EventKind::Release, object: ObjectId(0) },
+            Event { t: grasp_t, robot: P1, kind: EventKind::Grasp, object: ObjectId(0), fingers: Vec::new() },
+            Event { t: release_t, robot: P1, kind: EventKind::Release, object: ObjectId(0), fingers: Vec::new() },
         ],
         actions: vec![],
     };
@@ -216,6 +216,7 @@ fn the_block_is_an_obstacle_until_grasped_and_moves_with_the_hand_after() {
         id: 1,
         robot: P1,
         object: Some(ObjectId(0)),
+        grasp: 0,
         after: &after,
         start: 0.0,
         end: 6.0,
@@ -250,6 +251,7 @@ fn the_block_is_an_obstacle_until_grasped_and_moves_with_the_hand_after() {
         id: 2,
         robot: P2,
         object: None,
+        grasp: 0,
         after: &waits,
         start: 1.0,
         end: 6.0,
@@ -400,7 +402,7 @@ fn self_collision_is_checked_over_every_pair_the_sampled_pruning_dropped() {
 fn shape_points(w: &World, r: RobotId, q: &[f64]) -> Vec<parry3d_f64::math::Vector> {
     use parry3d_f64::math::Vector as V;
     let mut posed = Vec::new();
-    w.pose_shapes(r, q, &mut posed);
+    w.pose_shapes(r, q, None, &mut posed);
     let mut out = Vec::new();
     for s in &posed {
         let b = s.shape.0.compute_local_bounding_sphere();

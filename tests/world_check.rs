@@ -132,7 +132,7 @@ fn held_scene() -> declutter::resolve::Scenario {
 #[test]
 fn held_object_hitting_the_table_is_blocked() {
     let w = make(&held_scene(), 0);
-    let held = w.held(R0, ObjectId(0), &[0.0, 0.0, 0.0]);
+    let held = w.held(R0, ObjectId(0), 0, &[0.0, 0.0, 0.0]);
     let p = held.pose_flange_object.translation.vector;
     assert!((p - Vector3::new(0.05, 0.0, 0.0)).norm() < 1e-12);
     let ctx = CheckCtx::with_held(ObjectSet::new(), held.clone());

@@ -97,7 +97,7 @@ fn held_can_is_not_touched_by_the_hand() {
     // With the can present, the closed hand does not reach it at the grasp (side grasp).
     let side = w.select_grasps(R0, ObjectId(0)).into_iter().find(|g| g.grasp == 0).expect("side grasp");
     assert_eq!(w.check(R0, &side.q_grasp, &CheckCtx::new()), declutter::world::Check::free());
-    let held = w.held(R0, ObjectId(0), &g.q_grasp);
+    let held = w.held(R0, ObjectId(0), g.grasp, &g.q_grasp);
     let ctx = CheckCtx::with_held(ObjectSet::new(), held);
     assert!(!w.check(R0, &g.q_grasp, &ctx).is_blocked());
     assert!(!w.check(R0, &g.q_pregrasp, &ctx).is_blocked());

@@ -65,8 +65,8 @@ impl Space for RobotSpace<'_> {
     fn grasps(&self, o: ObjectId) -> Vec<GraspConfig> {
         self.world.select_grasps(self.robot, o)
     }
-    fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held {
-        self.world.held(self.robot, o, q_grasp)
+    fn held(&self, o: ObjectId, grasp: usize, q_grasp: &[f64]) -> Held {
+        self.world.held(self.robot, o, grasp, q_grasp)
     }
     fn why_no_grasp(&self, o: ObjectId) -> Option<String> {
         Some(crate::world::why_ungraspable(self.world, self.robot, o))

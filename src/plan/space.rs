@@ -39,7 +39,7 @@ pub trait Space: Sync {
     /// Reachable grasps of `o` (the paper's `selectGrasps`), in grasp order.
     fn grasps(&self, o: ObjectId) -> Vec<GraspConfig>;
     /// The object `o` as carried after grasping it at `q_grasp`.
-    fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held;
+    fn held(&self, o: ObjectId, grasp: usize, q_grasp: &[f64]) -> Held;
     /// Why `grasps(o)` is empty, in words naming the cause, where the space can tell.
     fn why_no_grasp(&self, _o: ObjectId) -> Option<String> {
         None

@@ -100,6 +100,10 @@ pub struct Robot {
     pub drop: Option<JointValues>,
     /// Link pairs the user says may touch (self-collision overrides).
     pub allow_contact: Vec<LinkPair>,
+    /// The finger joints' values with the hand empty; `None`: each at its upper limit.
+    pub open: Option<JointValues>,
+    /// The finger joints' values while holding; `None`: as open (unless a grasp's `width`).
+    pub closed: Option<JointValues>,
 }
 
 /// A collision primitive centred on its own frame. Sizes are full extents as written,
@@ -160,6 +164,8 @@ pub struct Grasp {
     pub approach: f64,
     /// Hands this grasp is for; `None` means every hand.
     pub hands: Option<Vec<HandId>>,
+    /// The opening sliding fingers close to while holding (metres), with its span.
+    pub width: Option<(f64, Span)>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

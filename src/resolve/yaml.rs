@@ -47,6 +47,12 @@ pub fn to_yaml_with_joints(s: &Scenario, joints: &[Vec<JointInfo>]) -> String {
         line(&mut w, 4, "flange", &r.flange.as_ref().map_or_else(|| "null".to_string(), |(f, _)| q(f)));
         line(&mut w, 4, "home", &nums(&r.home.values));
         line(&mut w, 4, "drop", &r.drop.as_ref().map_or_else(|| "null".to_string(), |d| nums(&d.values)));
+        // The finger postures only where given, so that a cell without them reads as before.
+        for (key, v) in [("open", &r.open), ("closed", &r.closed)] {
+            if let Some(v) = v {
+                line(&mut w, 4, key, &nums(&v.values));
+            }
+        }
         let pairs: Vec<String> = r.allow_contact.iter().map(|p| format!("[{}, {}]", q(&p.a), q(&p.b))).collect();
         line(&mut w, 4, "allow_contact", &format!("[{}]", pairs.join(", ")));
         if let Some(js) = joints.get(i) {
@@ -71,6 +77,9 @@ pub fn to_yaml_with_joints(s: &Scenario, joints: &[Vec<JointInfo>]) -> String {
             item(&mut w, 6, "name", &q(&g.name));
             line(&mut w, 8, "tcp", &pose(&g.pose_world_tcp));
             line(&mut w, 8, "approach", &num(g.approach));
+            if let Some((width, _)) = g.width {
+                line(&mut w, 8, "width", &num(width));
+            }
             let hands = match &g.hands {
                 None => "all".to_string(),
                 Some(hs) => format!("[{}]", hs.iter().map(|h| q(&hand_name(*h))).collect::<Vec<_>>().join(", ")),

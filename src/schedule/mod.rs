@@ -103,6 +103,9 @@ pub struct RobotTrajectory {
     pub robot: String,
     pub joint_names: Vec<String>,
     pub points: Vec<TrajPoint>,
+    /// The gripper's finger joints, which the events set (none for a rigid hand).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub finger_joints: Vec<String>,
 }
 
 /// The gripper closes on (`grasp`) or lets go of (`release`) an object at time `t`.
@@ -113,6 +116,10 @@ pub struct Event {
     pub robot: String,
     pub kind: EventKind,
     pub object: String,
+    /// The robot's `finger_joints` from this instant: closed on the object at a grasp,
+    /// open again at a release (none for a rigid hand).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fingers: Vec<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -191,7 +198,28 @@ impl std::fmt::Display for TargetSpec {
 
 /// Builds the schedule of a solution, its actions placed in time by `execution`.
 pub fn build(world: &World, sol: &Solution, execution: Execution) -> Schedule {
-    build_with(world.scenario(), sol, execution, |motions| timing::timeline(world, motions, execution))
+    let mut s = build_with(world.scenario(), sol, execution, |motions| timing::timeline(world, motions, execution));
+    // The gripper: its joints, and where each event sets them.
+    let scn = world.scenario();
+    for tr in &mut s.trajectories {
+        if let Some(r) = scn.robot_by_name(&tr.robot) {
+            tr.finger_joints = world.finger_names(r).iter().map(|n| n.to_string()).collect();
+        }
+    }
+    for e in &mut s.events {
+        let (Some(r), Some(o)) = (scn.robot_by_name(&e.robot), scn.object_by_name(&e.object)) else { continue };
+        let posture = match e.kind {
+            EventKind::Release => 0,
+            EventKind::Grasp => {
+                let grasp =
+                    s.actions.iter().find(|a| a.object.as_ref() == Some(&e.object)).and_then(|a| a.grasp.as_ref());
+                let g = scn.object(o).grasps.iter().position(|g| Some(&g.name) == grasp).unwrap_or(usize::MAX);
+                world.posture_of(r, o, g)
+            }
+        };
+        e.fingers = world.finger_values(r, posture).to_vec();
+    }
+    s
 }
 
 /// Builds the schedule of a solution, its actions placed in time by `time` (tests
@@ -221,6 +249,7 @@ pub fn build_with(
                 .map(|(a, f)| Motion {
                     robot: a.robot,
                     object: a.item.object(),
+                    grasp: f.grasp,
                     approach: &f.approach.0,
                     retreat: &f.retreat.0,
                     after: &a.after,
@@ -235,16 +264,23 @@ pub fn build_with(
                     robot: scn.robot(r).name.clone(),
                     joint_names: t.joint_names,
                     points: t.points,
+                    finger_joints: Vec::new(),
                 })
                 .collect();
             for (m, ta) in motions.iter().zip(&timeline.actions) {
                 let (Some(o), robot) = (m.object, scn.robot(m.robot).name.clone()) else { continue };
                 let object = scn.object(o).body.name.clone();
                 if let Some(t) = ta.grasp {
-                    events.push(Event { t, robot: robot.clone(), kind: EventKind::Grasp, object: object.clone() });
+                    events.push(Event {
+                        t,
+                        robot: robot.clone(),
+                        kind: EventKind::Grasp,
+                        object: object.clone(),
+                        fingers: Vec::new(),
+                    });
                 }
                 if let Some(t) = ta.release {
-                    events.push(Event { t, robot, kind: EventKind::Release, object });
+                    events.push(Event { t, robot, kind: EventKind::Release, object, fingers: Vec::new() });
                 }
             }
             events.sort_by(|a, b| a.t.total_cmp(&b.t));

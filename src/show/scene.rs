@@ -299,7 +299,8 @@ fn object_pose(world: &World, timeline: &Timeline, o: ObjectId, t: f64, qs: &[Ve
     let release = timeline.events.iter().find(|e| e.object == o && e.kind == EventKind::Release);
     let until = release.map_or(f64::INFINITY, |e| e.t);
     let track = &timeline.tracks[g.robot.index()];
-    let held = world.held(g.robot, o, &track.sample(g.t));
+    // The object rides with the flange; how the fingers close does not move it.
+    let held = world.held(g.robot, o, 0, &track.sample(g.t));
     let q = if t <= until { qs[g.robot.index()].clone() } else { track.sample(until) };
     world.fk_flange(g.robot, &q) * held.pose_flange_object
 }

@@ -144,17 +144,33 @@ pub enum Axis {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum GraspOption {
-    Approach { length: Quantity, span: Span },
-    Repeat { count: Quantity, axis: Axis, span: Span },
-    For { hands: Vec<Ident>, span: Span },
+    Approach {
+        length: Quantity,
+        span: Span,
+    },
+    /// `width 6cm`: the fingers' opening while holding.
+    Width {
+        length: Quantity,
+        span: Span,
+    },
+    Repeat {
+        count: Quantity,
+        axis: Axis,
+        span: Span,
+    },
+    For {
+        hands: Vec<Ident>,
+        span: Span,
+    },
 }
 
 impl GraspOption {
     pub fn span(&self) -> Span {
         match self {
-            GraspOption::Approach { span, .. } | GraspOption::Repeat { span, .. } | GraspOption::For { span, .. } => {
-                *span
-            }
+            GraspOption::Approach { span, .. }
+            | GraspOption::Width { span, .. }
+            | GraspOption::Repeat { span, .. }
+            | GraspOption::For { span, .. } => *span,
         }
     }
 }
@@ -232,6 +248,16 @@ pub enum RobotItem {
         span: Span,
     },
     Drop {
+        q: List,
+        span: Span,
+    },
+    /// `open [..]`: the finger joints on the way in and whenever the hand is empty.
+    Open {
+        q: List,
+        span: Span,
+    },
+    /// `closed [..]`: the finger joints while holding (a grasp's `width` overrides it).
+    Closed {
         q: List,
         span: Span,
     },

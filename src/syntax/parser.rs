@@ -132,6 +132,8 @@ impl Cx<'_> {
             Rule::srdf_stmt => RobotItem::Srdf { path: self.string(take()?)?, span },
             Rule::home_stmt => RobotItem::Home { q: self.list(take()?)?, span },
             Rule::drop_stmt => RobotItem::Drop { q: self.list(take()?)?, span },
+            Rule::open_stmt => RobotItem::Open { q: self.list(take()?)?, span },
+            Rule::closed_stmt => RobotItem::Closed { q: self.list(take()?)?, span },
             Rule::contact_stmt => {
                 let a = self.string(take()?)?;
                 let b = self.string(take()?)?;
@@ -249,6 +251,9 @@ impl Cx<'_> {
             options.push(match c.as_rule() {
                 Rule::approach => {
                     GraspOption::Approach { length: self.quantity(ci.next().ok_or_else(|| self.bad(&c))?)?, span: cs }
+                }
+                Rule::width => {
+                    GraspOption::Width { length: self.quantity(ci.next().ok_or_else(|| self.bad(&c))?)?, span: cs }
                 }
                 Rule::repeat => {
                     let count = self.quantity(ci.next().ok_or_else(|| self.bad(&c))?)?;
@@ -376,6 +381,9 @@ fn is_keyword(r: Rule) -> bool {
             | Rule::k_srdf
             | Rule::k_home
             | Rule::k_drop
+            | Rule::k_open
+            | Rule::k_closed
+            | Rule::k_width
             | Rule::k_allow_contact
             | Rule::k_scale
             | Rule::k_grasp

@@ -161,7 +161,9 @@ pub(super) fn place(world: &World, robots: &[RobotTiming], motions: &[Motion]) -
         let others_done =
             placed.iter().filter(|(_, run)| run.robot != m.robot).map(|(a, _)| a.end).fold(lower, f64::max);
         let held = match (m.object, m.approach.last()) {
-            (Some(o), Some(q)) if rel.grasp.is_some() => Some(world.held(m.robot, o, &q.0)),
+            (Some(o), Some(q)) if rel.grasp.is_some() => {
+                Some(world.held(m.robot, o, m.grasp.unwrap_or(usize::MAX), &q.0))
+            }
             _ => None,
         };
         let held_radius = held.as_ref().map_or(0.0, |h| world.held_radius(h));

@@ -154,6 +154,8 @@ pub struct Motion<'a> {
     pub robot: RobotId,
     /// The object grasped at the end of the approach (`None` for a configuration target).
     pub object: Option<ObjectId>,
+    /// The grasp's index among the object's grasps.
+    pub grasp: Option<usize>,
     pub approach: &'a [Config],
     pub retreat: &'a [Config],
     /// Indices of the actions that must have removed their objects first.

@@ -10,7 +10,8 @@ use super::analytic::Analytic;
 use super::chain::{Chain, ChainError};
 use super::check::{self, CheckCtx};
 use super::error::WorldError;
-use super::robot::{RBody, RShape, RobotModel};
+use super::fingers::posture;
+use super::robot::{Posture, RBody, RShape, RobotModel};
 use super::scene::{Entry, Owner, Scene};
 use super::shapes::{describe_tried, resolve_uri, Geometry, MeshCache, MeshMode, Placed};
 use super::urdf::{self, GeomKind, Model, UrdfProblem};
@@ -36,9 +37,12 @@ impl Default for WorldOptions {
     }
 }
 
-/// A hand: its shapes in the flange frame, by link.
-struct HandModel {
-    bodies: Vec<(String, Vec<Placed>)>,
+/// A hand: its shapes in the flange frame, by link, its fingers open.
+pub(super) struct HandModel {
+    pub(super) bodies: Vec<(String, Vec<Placed>)>,
+    pub(super) chain: Chain,
+    /// Each shape's link in `chain`, in the order of `bodies` flattened.
+    pub(super) shape_links: Vec<usize>,
 }
 
 /// Builds the world, or returns every error found (sorted by position).
@@ -64,6 +68,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let root_group = chain.links[0].group;
         let flange_group = chain.links[chain.flange].group;
         let hand = r.hand.and_then(|h| hands[h.index()].as_ref().map(|m| (h, m)));
+        let hand_start = shapes.len();
         if let Some((h, hm)) = hand {
             let moving = flange_group != root_group;
             // The hand is rigid: one body, named after the hand, for all its links.
@@ -82,6 +87,15 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
                 ctx.joint_values(&r.name, "target", q, &chain);
             }
         }
+        let hand_model = hand.map(|(_, hm)| hm);
+        let (fingers, stances, grasp_posture) = ctx.finger_stances(scn, r, &chain, hand_model);
+        let postures: Vec<Posture> =
+            stances.iter().map(|v| posture(&chain, hand_model, &shapes, &bodies, hand_start, v)).collect();
+        // The shapes themselves stand open: what reads them directly (the other robots'
+        // view of this one at home, the drawing, the pair sampling) sees the empty hand.
+        for (sh, p) in shapes.iter_mut().zip(postures.first().map_or(&[][..], |p| &p.poses)) {
+            sh.placed.pose = *p;
+        }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
         let analytic = Analytic::detect(&chain);
         robots.push(RobotModel {
@@ -97,6 +111,9 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             scene: Scene::new(Vec::new()),
             home: Config(home.unwrap_or_default()),
             drop: Config(drop.unwrap_or_default()),
+            fingers,
+            postures,
+            grasp_posture,
         });
     }
 
@@ -388,10 +405,10 @@ fn push_body(
     bodies.push(RBody { name: name.to_string(), link, shapes: start..shapes.len(), moving, holds });
 }
 
-struct LoadCtx<'a> {
+pub(super) struct LoadCtx<'a> {
     loader: &'a dyn Loader,
     opts: &'a WorldOptions,
-    errs: &'a mut Vec<WorldError>,
+    pub(super) errs: &'a mut Vec<WorldError>,
 }
 
 impl LoadCtx<'_> {
@@ -519,6 +536,7 @@ impl LoadCtx<'_> {
         let mut poses = vec![Isometry3::identity(); chain.links.len()];
         chain.fk_into(&q, &mut poses);
         let mut bodies = Vec::new();
+        let mut shape_links = Vec::new();
         for (li, link) in chain.links.iter().enumerate() {
             let ml = &model.links[chain.model_index[li]];
             let geoms: Vec<urdf::Geom> = ml
@@ -528,10 +546,11 @@ impl LoadCtx<'_> {
                 .collect();
             let placed = self.geoms(file, &link.name, &geoms, meshes);
             if !placed.is_empty() {
+                shape_links.extend(std::iter::repeat_n(li, placed.len()));
                 bodies.push((link.name.clone(), placed));
             }
         }
-        Some(HandModel { bodies })
+        Some(HandModel { bodies, chain, shape_links })
     }
 
     fn geoms(&mut self, file: &FileRef, link: &str, geoms: &[urdf::Geom], meshes: &mut MeshCache) -> Vec<Placed> {
@@ -628,9 +647,23 @@ impl LoadCtx<'_> {
             });
             return None;
         }
-        let mut ok = true;
         let turns = super::ik::rotational(chain);
-        for ((unit, span), (turns, name)) in v.units.iter().zip(turns.iter().zip(&chain.joint_names)) {
+        self.units_and_limits(robot, what, v, &chain.joint_names, &chain.limits, &turns).then(|| v.values.clone())
+    }
+
+    /// Each value written with the unit its joint moves by (an angle for one that turns, a
+    /// length for one that slides) and inside its limits.
+    pub(super) fn units_and_limits(
+        &mut self,
+        robot: &str,
+        what: &str,
+        v: &JointValues,
+        names: &[String],
+        limits: &[(f64, f64)],
+        turns: &[bool],
+    ) -> bool {
+        let mut ok = true;
+        for ((unit, span), (turns, name)) in v.units.iter().zip(turns.iter().zip(names)) {
             let (moves, written) = match (unit, turns) {
                 (JointUnit::Length, true) => ("turns", "a length"),
                 (JointUnit::Angle, false) => ("slides", "an angle"),
@@ -647,9 +680,9 @@ impl LoadCtx<'_> {
             });
         }
         if !ok {
-            return None;
+            return false;
         }
-        for (index, ((x, (lo, hi)), name)) in v.values.iter().zip(&chain.limits).zip(&chain.joint_names).enumerate() {
+        for (index, ((x, (lo, hi)), name)) in v.values.iter().zip(limits).zip(names).enumerate() {
             if !(x.is_finite() && *x >= lo - check::LIMIT_SLACK && *x <= hi + check::LIMIT_SLACK) {
                 ok = false;
                 self.errs.push(WorldError::JointLimit {
@@ -665,6 +698,6 @@ impl LoadCtx<'_> {
                 });
             }
         }
-        ok.then(|| v.values.clone())
+        ok
     }
 }

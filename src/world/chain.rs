@@ -53,6 +53,30 @@ pub(crate) struct Chain {
     pub path: Vec<usize>,
     /// For each link, the index in `Model::links` it came from.
     pub model_index: Vec<usize>,
+    /// The gripper's finger joints (movable, not mimic), in file order.
+    pub fingers: Vec<FingerJoint>,
+    /// Where the fingers stand in this chain (their upper limits unless set).
+    pub finger_values: Vec<f64>,
+    /// Links whose frozen value a finger sets: (link, finger, mult, offset).
+    finger_links: Vec<(usize, usize, f64, f64)>,
+}
+
+/// Which finger a frozen joint follows: (finger, mult, offset).
+type FingerLink = (usize, f64, f64);
+
+/// A joint of the gripper: not part of the configuration, set by a posture.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct FingerJoint {
+    pub name: String,
+    pub lower: f64,
+    pub upper: f64,
+    /// Over the links it moves that slide: the sum of their |mult| (how much the opening
+    /// grows per unit of this joint); 0 when every one turns.
+    pub spread: f64,
+    /// Some link it moves slides (a `width` can set it).
+    pub slides: bool,
+    /// The joint itself turns (its values are angles).
+    pub turns: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -158,16 +182,20 @@ impl Chain {
         }
         let finger =
             |j: usize| (all_fingers || rigid[model.joints[j].parent]) && model.joints[j].motion != Motion::Fixed;
+        let finger_joints: Vec<usize> = (0..model.joints.len())
+            .filter(|&j| finger(j) && model.joints[j].mimic.is_none() && active_of_joint[j].is_none())
+            .collect();
         // Resolve every joint's value source, following mimic chains.
-        let resolve = |j: usize| -> Result<Source, ChainError> {
+        // The value source, and the finger (index, mult, offset) it follows, if any.
+        let resolve = |j: usize| -> Result<(Source, Option<FingerLink>), ChainError> {
             let (mut mult, mut offset, mut cur) = (1.0, 0.0, j);
             for _ in 0..=model.joints.len() {
                 let mj = &model.joints[cur];
                 if mj.motion == Motion::Fixed {
-                    return Ok(Source::Frozen(offset));
+                    return Ok((Source::Frozen(offset), None));
                 }
                 if let Some(index) = active_of_joint[cur] {
-                    return Ok(Source::Active { index, mult, offset });
+                    return Ok((Source::Active { index, mult, offset }, None));
                 }
                 match &mj.mimic {
                     Some((leader, m, o)) => {
@@ -178,8 +206,9 @@ impl Chain {
                         })?;
                     }
                     None => {
-                        let v = if finger(cur) { mj.upper } else { 0f64.clamp(mj.lower, mj.upper) };
-                        return Ok(Source::Frozen(mult * v + offset));
+                        let of = finger_joints.iter().position(|&f| f == cur);
+                        let v = if of.is_some() { mj.upper } else { 0f64.clamp(mj.lower, mj.upper) };
+                        return Ok((Source::Frozen(mult * v + offset), of.map(|k| (k, mult, offset))));
                     }
                 }
             }
@@ -188,13 +217,40 @@ impl Chain {
 
         let mut links = Vec::with_capacity(order.len());
         let mut groups: Vec<usize> = Vec::with_capacity(order.len());
+        let mut finger_links = Vec::new();
+        let mut fingers: Vec<FingerJoint> = finger_joints
+            .iter()
+            .map(|&j| {
+                let mj = &model.joints[j];
+                FingerJoint {
+                    name: mj.name.clone(),
+                    lower: mj.lower,
+                    upper: mj.upper,
+                    spread: 0.0,
+                    slides: false,
+                    turns: matches!(mj.motion, Motion::Rotate(_)),
+                }
+            })
+            .collect();
         for (i, &l) in order.iter().enumerate() {
             let ml = &model.links[l];
             let (parent, pose, motion, source) = match ml.parent_joint {
                 None => (None, Isometry3::identity(), Motion::Fixed, Source::Fixed),
                 Some(j) => {
                     let mj = &model.joints[j];
-                    let src = if mj.motion == Motion::Fixed { Source::Fixed } else { resolve(j)? };
+                    let src = if mj.motion == Motion::Fixed {
+                        Source::Fixed
+                    } else {
+                        let (src, of) = resolve(j)?;
+                        if let Some((k, mult, offset)) = of {
+                            finger_links.push((i, k, mult, offset));
+                            if let Motion::Slide(_) = mj.motion {
+                                fingers[k].spread += mult.abs();
+                                fingers[k].slides = true;
+                            }
+                        }
+                        src
+                    };
                     (Some(pos[mj.parent]), mj.pose_parent_joint, mj.motion, src)
                 }
             };
@@ -214,7 +270,22 @@ impl Chain {
             velocities,
             accelerations,
             model_index: order,
+            finger_values: fingers.iter().map(|f| f.upper).collect(),
+            fingers,
+            finger_links,
         })
+    }
+
+    /// The same chain with its fingers at `values` (one per [`Chain::fingers`]).
+    pub fn with_fingers(&self, values: &[f64]) -> Chain {
+        let mut c = self.clone();
+        for &(l, k, mult, offset) in &self.finger_links {
+            if let Some(v) = values.get(k) {
+                c.links[l].source = Source::Frozen(mult * v + offset);
+            }
+        }
+        c.finger_values = values.to_vec();
+        c
     }
 
     pub fn dof(&self) -> usize {

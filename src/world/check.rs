@@ -19,7 +19,7 @@ use parry3d_f64::shape::Shape;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::robot::{assert_dof, RobotModel};
+use super::robot::{assert_dof, RobotModel, OPEN};
 use super::scene::Owner;
 use super::shapes::{aabb_of, to_ppose, Obb, Placed, CONTACT_TOLERANCE};
 use super::{Blocker, Check, Held, ObjectSet, World};
@@ -98,8 +98,9 @@ thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
-/// Poses and AABBs of every shape of the robot at `q` (world frame).
-fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
+/// Poses and AABBs of every shape of the robot at `q` (world frame), the fingers in
+/// `posture`.
+fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     let n = m.chain.links.len();
     s.links.resize(n, Isometry3::identity());
     m.chain.fk_into(q, &mut s.links);
@@ -107,8 +108,10 @@ fn pose_robot(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
     s.shape_pose.clear();
     s.shape_aabb.clear();
-    for sh in &m.shapes {
-        let pose = s.link_pose[m.bodies[sh.body].link] * sh.placed.pose;
+    let posed = m.postures.get(posture).map(|p| &p.poses[..]);
+    for (si, sh) in m.shapes.iter().enumerate() {
+        let local = posed.and_then(|p| p.get(si)).unwrap_or(&sh.placed.pose);
+        let pose = s.link_pose[m.bodies[sh.body].link] * *local;
         s.shape_aabb.push(aabb_of(&*sh.placed.shape.0, &pose));
         s.shape_pose.push(pose);
     }
@@ -137,7 +140,7 @@ fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: boo
     }
     SCRATCH.with(|cell| {
         let mut s = cell.borrow_mut();
-        pose_robot(m, q, &mut s);
+        pose_robot(m, q, ctx.held.as_ref().map_or(OPEN, |h| h.posture), &mut s);
         check_posed(w, m, ctx, &mut s, robot_part)
     })
 }
@@ -399,7 +402,7 @@ pub(crate) fn self_pairs(
         for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
             *v = super::chain::sample_in(&mut rng, *lo, *hi);
         }
-        pose_robot(m, &q, &mut s);
+        pose_robot(m, &q, OPEN, &mut s);
         for (k, &(a, b)) in pairs.iter().enumerate() {
             if near[k] && misses[k] >= misses_to_keep {
                 continue;

@@ -200,6 +200,51 @@ pub enum WorldError {
     },
 
     #[error(
+        "`{what}` of robot `{robot}` has {got} values, but its gripper has {expected} finger joint{} ({joints})",
+        if *expected == 1 { "" } else { "s" }
+    )]
+    #[diagnostic(
+        code(declutter::world::finger_count),
+        help("one value per finger joint: a mimic joint follows its leader and takes no value")
+    )]
+    FingerCount {
+        robot: String,
+        what: String,
+        expected: usize,
+        got: usize,
+        joints: String,
+        #[label("expected {expected} value{}", if *expected == 1 { "" } else { "s" })]
+        span: Span,
+    },
+
+    #[error("robot `{robot}` has no finger joints for `{what}` to set")]
+    #[diagnostic(
+        code(declutter::world::no_fingers),
+        help("finger joints are the movable joints of a hand's URDF, and those hanging from the links rigid with the flange in the arm's URDF; a rigid hand needs no posture")
+    )]
+    NoFingers {
+        robot: String,
+        what: String,
+        #[label("nothing to set")]
+        span: Span,
+    },
+
+    #[error("grasp `{grasp}` of `{object}`: robot `{robot}` cannot close to {width_mm} mm: {reason}")]
+    #[diagnostic(
+        code(declutter::world::grasp_width),
+        help("`width` sets sliding fingers so that their joint values add up to it (the Panda's two fingers at half the width each); for fingers that turn, give the robot `closed [..]`")
+    )]
+    GraspWidth {
+        robot: String,
+        object: String,
+        grasp: String,
+        width_mm: f64,
+        reason: String,
+        #[label("this width")]
+        span: Span,
+    },
+
+    #[error(
         "`{what}` of robot `{robot}`: joint `{joint}` = {} is outside its limits {}",
         joint_value(*value, *turns),
         joint_range(*lower, *upper, *turns)
@@ -266,6 +311,9 @@ impl Located for WorldError {
             | WorldError::SrdfParse { span, .. }
             | WorldError::SrdfLink { span, .. }
             | WorldError::JointCount { span, .. }
+            | WorldError::FingerCount { span, .. }
+            | WorldError::NoFingers { span, .. }
+            | WorldError::GraspWidth { span, .. }
             | WorldError::JointLimit { span, .. }
             | WorldError::JointUnit { span, .. }
             | WorldError::ConfigCollides { span, .. } => *span,

@@ -13,6 +13,7 @@ mod chain;
 mod check;
 mod drawing;
 mod error;
+mod fingers;
 mod grasps;
 mod ik;
 mod labels;
@@ -169,12 +170,28 @@ impl World {
         robot::assert_dof(m, b);
         grasps::approach_deviation(self, r, grasp, a, b, resolution)
     }
-    /// The object as carried after grasping it at `q_grasp`.
-    /// Panics if `q_grasp.len()` is not [`World::dof`].
-    pub fn held(&self, r: RobotId, o: ObjectId, q_grasp: &[f64]) -> Held {
+    /// The object as carried after grasping it by its grasp `grasp` at `q_grasp`, the
+    /// fingers closed as that grasp says. Panics if `q_grasp.len()` is not [`World::dof`].
+    pub fn held(&self, r: RobotId, o: ObjectId, grasp: usize, q_grasp: &[f64]) -> Held {
         let pose_world_flange = self.fk_flange(r, q_grasp);
         let pose_world_object = self.scenario.object(o).body.pose_world_body;
-        Held { object: o, pose_flange_object: pose_world_flange.inverse() * pose_world_object }
+        let posture = self.posture_of(r, o, grasp);
+        Held { object: o, pose_flange_object: pose_world_flange.inverse() * pose_world_object, posture }
+    }
+    /// The fingers' posture holding `o` by its grasp `grasp` (open for an unknown grasp).
+    pub fn posture_of(&self, r: RobotId, o: ObjectId, grasp: usize) -> usize {
+        let m = &self.robots[r.index()];
+        m.grasp_posture.get(o.index()).and_then(|g| g.get(grasp)).copied().unwrap_or(robot::OPEN)
+    }
+    /// The gripper's finger joints (the arm URDF's, then the hand's), for a controller.
+    pub fn finger_names(&self, r: RobotId) -> Vec<&str> {
+        self.robots[r.index()].fingers.iter().map(|f| f.name.as_str()).collect()
+    }
+    /// The finger joints' values in a posture (0, open: the hand empty; a [`Held`]'s
+    /// while carrying).
+    pub fn finger_values(&self, r: RobotId, posture: usize) -> &[f64] {
+        let m = &self.robots[r.index()];
+        m.postures.get(posture).or(m.postures.first()).map_or(&[], |p| &p.values)
     }
     /// The labelled check of one configuration. Panics if `q.len()` is not
     /// [`World::dof`]; a value outside the limits is `Blocked(JointLimit)`, not a panic.
@@ -239,6 +256,8 @@ pub struct Held {
     pub object: ObjectId,
     /// The object's pose in the flange frame, fixed at the moment of grasping.
     pub pose_flange_object: Pose,
+    /// The fingers' posture while holding it (an index into the robot's postures; 0 is open).
+    pub posture: usize,
 }
 
 /// A reachable grasp of an object by one robot (the paper's `selectGrasps`).

@@ -36,7 +36,7 @@ impl World {
     fn posed(&self, at: RobotAt) -> Posed {
         let mut shapes = Vec::new();
         let mut out = Vec::new();
-        let flange = self.pose_shapes(at.robot, at.q, &mut out);
+        let flange = self.pose_shapes(at.robot, at.q, at.held, &mut out);
         shapes.extend(out.into_iter().map(|s| (s.shape, s.pose, s.aabb)));
         if let Some(h) = at.held {
             shapes.extend(self.pose_held(h, &flange).into_iter().map(|p| (p.shape, p.pose, p.aabb)));

@@ -4,8 +4,10 @@
 
 use std::ops::Range;
 
+use parry3d_f64::math::Pose as PPose;
+
 use super::analytic::Analytic;
-use super::chain::Chain;
+use super::chain::{Chain, FingerJoint};
 use super::scene::Scene;
 use super::shapes::Placed;
 use super::Config;
@@ -44,7 +46,23 @@ pub(crate) struct RobotModel {
     pub drop: Config,
     /// The closed-form IK solver, when the arm is of a family it knows.
     pub analytic: Option<Analytic>,
+    /// The gripper's finger joints: the arm URDF's, then the hand's.
+    pub fingers: Vec<FingerJoint>,
+    /// Where the fingers can stand; the first is open (the hand empty).
+    pub postures: Vec<Posture>,
+    /// Per object, per grasp: the posture the fingers hold it in.
+    pub grasp_posture: Vec<Vec<usize>>,
 }
+
+/// One stance of the fingers: their joint values, and every shape's pose in its body's
+/// link frame with the fingers there (the shapes of other links as they always are).
+pub(crate) struct Posture {
+    pub values: Vec<f64>,
+    pub poses: Vec<PPose>,
+}
+
+/// The posture used when the hand is empty.
+pub(crate) const OPEN: usize = 0;
 
 /// The contract of every public method taking a configuration (documented on
 /// [`World::fk_flange`]): a wrong length is the caller's bug, reported plainly here

@@ -104,16 +104,20 @@ impl World {
         m.bodies.iter().map(|b| BodyInfo { name: b.name.clone(), moving: b.moving, holds: b.holds }).collect()
     }
 
-    /// Every collision shape of the robot at `q`, in the world frame, written into
-    /// `out`; returns the flange pose. Panics if `q.len()` is not [`World::dof`].
-    pub fn pose_shapes(&self, r: RobotId, q: &[f64], out: &mut Vec<PosedShape>) -> Isometry3<f64> {
+    /// Every collision shape of the robot at `q`, in the world frame, the fingers closed
+    /// as they hold `held` (open when empty), written into `out`; returns the flange pose.
+    /// Panics if `q.len()` is not [`World::dof`].
+    pub fn pose_shapes(&self, r: RobotId, q: &[f64], held: Option<&Held>, out: &mut Vec<PosedShape>) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
         let mut links = vec![Isometry3::identity(); m.chain.links.len()];
         m.chain.fk_into(q, &mut links);
         out.clear();
-        for s in &m.shapes {
-            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * s.placed.pose;
+        let posture = held.map_or(super::robot::OPEN, |h| h.posture);
+        let posed = m.postures.get(posture).map(|p| &p.poses[..]);
+        for (si, s) in m.shapes.iter().enumerate() {
+            let local = posed.and_then(|p| p.get(si)).unwrap_or(&s.placed.pose);
+            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * *local;
             let aabb = aabb_of(&*s.placed.shape.0, &pose);
             out.push(PosedShape {
                 body: s.body,
@@ -204,10 +208,16 @@ fn joint_reach(m: &RobotModel) -> JointReach {
         offset + travel
     };
     // Farthest shape point from each link's own origin.
+    // (In every finger posture.)
     let mut own = vec![0.0f64; n];
-    for s in &m.shapes {
+    for (si, s) in m.shapes.iter().enumerate() {
         let l = m.bodies[s.body].link;
         own[l] = own[l].max(radius_about_origin(&PPose::IDENTITY, &s.placed));
+        for p in &m.postures {
+            if let Some(pose) = p.poses.get(si) {
+                own[l] = own[l].max(radius_about_origin(&(*pose * s.placed.pose.inverse()), &s.placed));
+            }
+        }
     }
     // Farthest point of the subtree below each link, from that link's origin. Parents
     // come before children, so a reverse pass sees every child first.

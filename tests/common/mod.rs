@@ -51,6 +51,8 @@ pub fn scenario(robots: usize, objects: usize, target: Option<u32>, config_robot
             home: JointValues { values: vec![0.0, 0.0], span: *span, units: Vec::new() },
             drop: None,
             allow_contact: vec![],
+            open: None,
+            closed: None,
         })
         .collect();
     let objects = spans
@@ -65,6 +67,7 @@ pub fn scenario(robots: usize, objects: usize, target: Option<u32>, config_robot
                 pose_world_tcp: Pose::identity(),
                 approach: 0.05,
                 hands: None,
+                width: None,
             }],
         })
         .collect();

@@ -218,12 +218,12 @@ impl Space for Planar {
     fn grasps(&self, o: ObjectId) -> Vec<GraspConfig> {
         self.grasps[o.index()].clone()
     }
-    fn held(&self, o: ObjectId, q_grasp: &[f64]) -> Held {
+    fn held(&self, o: ObjectId, _grasp: usize, q_grasp: &[f64]) -> Held {
         let (_, tip) = fk(q_grasp);
         let r = self.objects[o.index()];
         // Object frame = its rectangle's centre and angle; expressed in the tip frame.
         let rel = Rect { c: r.c, h: r.h, a: r.a }.relative_to(tip);
-        Held { object: o, pose_flange_object: pose2((rel.c[0], rel.c[1], rel.a)) }
+        Held { object: o, pose_flange_object: pose2((rel.c[0], rel.c[1], rel.a)), posture: 0 }
     }
 }
 

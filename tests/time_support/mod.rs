@@ -107,12 +107,14 @@ pub fn dense_contacts(w: &World, tl: &Timeline, bound: f64) -> Vec<(f64, String)
                 .iter()
                 .find(|e| e.kind == EventKind::Release && e.object == g.object && e.t >= g.t)
                 .map_or(f64::INFINITY, |e| e.t);
-            Some((g.robot, g.t, release, w.held(g.robot, g.object, &q_at(tr, g.t))))
+            let grasp = tl.actions.iter().find(|a| a.object == Some(g.object) && a.robot == g.robot)?.grasp;
+            Some((g.robot, g.t, release, w.held(g.robot, g.object, grasp, &q_at(tr, g.t))))
         })
         .collect();
     for t in instants(w, tl, bound) {
         for (k, tr) in tl.tracks.iter().enumerate() {
-            let flange = w.pose_shapes(tr.robot, &q_at(tr, t), &mut posed[k]);
+            let holding = carries.iter().find(|(r, from, to, _)| *r == tr.robot && t >= *from && t < *to);
+            let flange = w.pose_shapes(tr.robot, &q_at(tr, t), holding.map(|c| &c.3), &mut posed[k]);
             // A carried object rides along as one more shape of its robot, a body of its own.
             for (r, from, to, held) in &carries {
                 if *r == tr.robot && t >= *from && t < *to {

@@ -36,6 +36,8 @@ pub fn robot(name: &str, urdf: impl AsRef<Path>, home: Vec<f64>, hand: Option<Ha
         home: JointValues { values: home, span: sp(30, 40), units: Vec::new() },
         drop: None,
         allow_contact: Vec::new(),
+        open: None,
+        closed: None,
     }
 }
 
@@ -68,6 +70,7 @@ pub fn grasp(name: &str, pose_world_object: &Pose, pose_object_tcp: Pose, approa
         pose_world_tcp: pose_world_object * pose_object_tcp,
         approach,
         hands: None,
+        width: None,
     }
 }
 

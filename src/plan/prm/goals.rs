@@ -166,7 +166,7 @@ impl<S: Space> RobotPlanner<S> {
                 continue;
             }
             let g = g as u32;
-            let held = self.space.held(o, &cfg.q_grasp);
+            let held = self.space.held(o, cfg.grasp, &cfg.q_grasp);
             let item = LabelKey::Approach(o, g);
             let cached = self.lock(
                 |s| {

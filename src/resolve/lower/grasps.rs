@@ -38,6 +38,7 @@ impl Lower<'_> {
             seen.insert(&g.name.name, g.name.span);
             let pose = self.pose(&g.pose);
             let mut approach: Option<(f64, Span)> = None;
+            let mut width: Option<((f64, Span), Span)> = None;
             let mut repeat: Option<((u64, ast::Axis), Span)> = None;
             let mut hands: Option<(Vec<HandId>, Span)> = None;
             for o in &g.options {
@@ -59,6 +60,28 @@ impl Lower<'_> {
                             }
                         });
                         self.once(&mut approach, "approach", v.unwrap_or(0.0), *span);
+                    }
+                    ast::GraspOption::Width { length, span } => {
+                        self.check_bare_length(length);
+                        let v = self.ok(convert(length, Kind::Length)).and_then(|v| {
+                            if v > 0.0 {
+                                Some(v)
+                            } else {
+                                self.errors.push(ResolveError::OutOfRange {
+                                    what: "a grip width".to_string(),
+                                    limit: "more than zero".to_string(),
+                                    value: written(length),
+                                    span: length.span,
+                                    help: Some(
+                                        "the width is how far apart the fingers close on the object".to_string(),
+                                    ),
+                                });
+                                None
+                            }
+                        });
+                        if let Some(v) = v {
+                            self.once(&mut width, "width", (v, length.span), *span);
+                        }
                     }
                     ast::GraspOption::Repeat { count, axis, span } => {
                         // Any spelling of zero (`0`, `0.0`, `0e5`, `-0`) is the same slip.
@@ -102,6 +125,7 @@ impl Lower<'_> {
             }
             let approach = approach.map_or(0.0, |(a, _)| a);
             let hands = hands.map(|(h, _)| h);
+            let width = width.map(|(w, _)| w);
             match repeat {
                 None => out.push(Grasp {
                     name: g.name.name.clone(),
@@ -110,6 +134,7 @@ impl Lower<'_> {
                     pose_world_tcp: body.pose_world_body * pose,
                     approach,
                     hands,
+                    width,
                 }),
                 Some(((n, axis), _)) => {
                     let axis = match axis {
@@ -127,6 +152,7 @@ impl Lower<'_> {
                             pose_world_tcp: body.pose_world_body * pose_object_tcp,
                             approach,
                             hands: hands.clone(),
+                            width,
                         });
                     }
                 }

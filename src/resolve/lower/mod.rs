@@ -468,6 +468,8 @@ impl Lower<'_> {
         let mut srdf = None;
         let mut home = None;
         let mut drop = None;
+        let mut open = None;
+        let mut closed = None;
         let mut allow_contact = Vec::new();
         for it in &r.items {
             match it {
@@ -497,6 +499,14 @@ impl Lower<'_> {
                 ast::RobotItem::Drop { q, span } => {
                     let j = self.joints(q, "`drop`");
                     self.once(&mut drop, "drop", j, *span);
+                }
+                ast::RobotItem::Open { q, span } => {
+                    let j = self.joints(q, "`open`");
+                    self.once(&mut open, "open", j, *span);
+                }
+                ast::RobotItem::Closed { q, span } => {
+                    let j = self.joints(q, "`closed`");
+                    self.once(&mut closed, "closed", j, *span);
                 }
                 ast::RobotItem::AllowContact { a, b, span } => {
                     allow_contact.push(LinkPair { a: a.value.clone(), b: b.value.clone(), span: *span })
@@ -532,6 +542,8 @@ impl Lower<'_> {
             home,
             drop,
             allow_contact,
+            open: open.map(|(v, _)| v),
+            closed: closed.map(|(v, _)| v),
         }
     }
 

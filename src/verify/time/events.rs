@@ -66,11 +66,35 @@ pub(super) fn check_actions(world: &World, tl: &Timeline, tracks: &[&Track], out
                 .find(|(k, e)| !used[*k] && e.robot == a.robot && e.object == o && e.kind == kind);
             hit.map(|(k, e)| {
                 used[k] = true;
-                e.t
+                (e.t, &e.fingers)
             })
         };
-        let grasp = find(EventKind::Grasp);
-        let release = find(EventKind::Release);
+        let grasp_event = find(EventKind::Grasp);
+        let release_event = find(EventKind::Release);
+        // The fingers: closed as the scenario says on the object at the grasp, open at the release.
+        for (kind, e, posture) in [
+            (EventKind::Grasp, grasp_event, world.posture_of(a.robot, o, a.grasp)),
+            (EventKind::Release, release_event, 0),
+        ] {
+            let Some((t, found)) = e else { continue };
+            let expected = world.finger_values(a.robot, posture);
+            let same = expected.len() == found.len() && expected.iter().zip(found).all(|(x, y)| (x - y).abs() <= 1e-6);
+            if !same {
+                out.push(Violation::timed(
+                    Some(t),
+                    TimeViolation::FingersWrong {
+                        action: a.id,
+                        kind,
+                        object: object.clone(),
+                        t,
+                        expected: expected.to_vec(),
+                        found: found.clone(),
+                    },
+                ));
+            }
+        }
+        let grasp = grasp_event.map(|e| e.0);
+        let release = release_event.map(|e| e.0);
         let mut placed = |kind: EventKind, t: Option<f64>, q_at: &[f64]| {
             let Some(t) = t else {
                 out.push(Violation::timed(
@@ -100,7 +124,7 @@ pub(super) fn check_actions(world: &World, tl: &Timeline, tracks: &[&Track], out
         // Without a grasp event the object is never picked: it stays where it is.
         if let Some(g) = grasp {
             let exempt_from = times.get(n.wrapping_sub(2)).copied().flatten().unwrap_or(g);
-            let held = world.held(a.robot, o, q_grasp);
+            let held = world.held(a.robot, o, a.grasp, q_grasp);
             let release = release.filter(|r| *r >= g).unwrap_or(f64::INFINITY);
             marks.carries.push(Carry { robot: a.robot, object: o, grasp: g, release, held, exempt_from });
         }

@@ -28,7 +28,7 @@ pub fn timeline<'s>(world: &World, s: &'s Schedule, out: &mut Vec<Violation>) ->
                 schedule::EventKind::Grasp => EventKind::Grasp,
                 schedule::EventKind::Release => EventKind::Release,
             };
-            read::event(world, e.t, &e.robot, kind, &e.object, out)
+            read::event(world, e.t, &e.robot, kind, &e.object, &e.fingers, out)
         })
         .collect();
     if out.len() > before {
@@ -43,10 +43,15 @@ pub fn timeline<'s>(world: &World, s: &'s Schedule, out: &mut Vec<Violation>) ->
                 Some(name) => Some(scn.object_by_name(name)?),
                 None => None,
             };
+            // An unknown grasp is reported by the action checks; it holds with the fingers open.
+            let grasp = object
+                .and_then(|o| scn.object(o).grasps.iter().position(|g| Some(&g.name) == a.grasp.as_ref()))
+                .unwrap_or(usize::MAX);
             Some(TimedAction {
                 id: a.id,
                 robot,
                 object,
+                grasp,
                 after: &a.after,
                 start: a.start,
                 end: a.end,

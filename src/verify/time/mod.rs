@@ -71,6 +71,8 @@ pub struct Event {
     pub robot: RobotId,
     pub kind: EventKind,
     pub object: ObjectId,
+    /// The finger joints' values from this instant (empty for a rigid hand).
+    pub fingers: Vec<f64>,
 }
 
 /// What the replay needs of one action.
@@ -80,6 +82,8 @@ pub struct TimedAction<'a> {
     pub robot: RobotId,
     /// `None` for the reach of a configuration target.
     pub object: Option<ObjectId>,
+    /// The grasp's index among the object's grasps (how the fingers close on it).
+    pub grasp: usize,
     /// Ids of the actions whose objects must be carried clear before this one starts.
     pub after: &'a [u32],
     pub start: f64,

@@ -38,6 +38,7 @@ pub fn event(
     robot: &str,
     kind: EventKind,
     object: &str,
+    fingers: &[f64],
     out: &mut Vec<Violation>,
 ) -> Option<Event> {
     let scn = world.scenario();
@@ -47,5 +48,5 @@ pub fn event(
             out.push(Violation::timed(Some(t), TimeViolation::UnknownEventName { name: name.to_string(), kind }));
         }
     }
-    Some(Event { t, robot: r?, kind, object: o? })
+    Some(Event { t, robot: r?, kind, object: o?, fingers: fingers.to_vec() })
 }

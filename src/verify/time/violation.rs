@@ -128,6 +128,15 @@ pub enum TimeViolation {
         t: f64,
         distance: f64,
     },
+    /// The event sets the fingers otherwise than the scenario closes (or opens) them.
+    FingersWrong {
+        action: u32,
+        kind: EventKind,
+        object: String,
+        t: f64,
+        expected: Vec<f64>,
+        found: Vec<f64>,
+    },
     /// An event no action explains, or a second one for the same action.
     UnexpectedEvent {
         robot: String,
@@ -257,6 +266,15 @@ impl fmt::Display for TimeViolation {
                     f,
                     "action {action}: the `{kind}` of `{object}` at {t:.3} s is where the robot is {distance:.2e} \
                      (joint space) away from its {at} configuration"
+                )
+            }
+            FingersWrong { action, kind, object, t, expected, found } => {
+                let list = |v: &[f64]| v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", ");
+                write!(
+                    f,
+                    "action {action}: the `{kind}` of `{object}` at {t:.3} s sets the fingers to [{}], but the scenario says [{}]",
+                    list(found),
+                    list(expected)
                 )
             }
             UnexpectedEvent { robot, kind, object, t } => {
