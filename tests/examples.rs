@@ -193,6 +193,22 @@ fn split_lid_one_half_lid_per_arm_then_the_can() {
 }
 
 #[test]
+fn gripper_open_fingers_need_both_bottles_gone_and_close_on_each_object() {
+    let (w, s) = compile("gripper");
+    assert_eq!(s.removed, ["left", "right"]);
+    assert_eq!(s.trajectories[0].finger_joints, ["finger_joint"]);
+    // Closed on each as its grasp says (`closed [1cm]` for `left`, which has no width;
+    // 3 cm each for `right`'s 6 cm; 3.3 cm for the can's 6.6 cm), open (4.25 cm) after.
+    let grips: Vec<(String, Vec<f64>)> = s.events.iter().map(|e| (e.object.clone(), e.fingers.clone())).collect();
+    let want = [("left", 0.01), ("left", 0.0425), ("right", 0.03), ("right", 0.0425), ("can", 0.033), ("can", 0.0425)];
+    assert_eq!(grips.len(), want.len(), "{grips:?}");
+    for ((o, f), (wo, wf)) in grips.iter().zip(want) {
+        assert!(o == wo && f.len() == 1 && (f[0] - wf).abs() < 1e-12, "{grips:?}");
+    }
+    solved("gripper", &w, &s);
+}
+
+#[test]
 #[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
 fn three_arm_third_robot_clears_the_way() {
     let (w, s) = compile("three_arm");
