@@ -56,6 +56,32 @@ fn split_lid_arms_share_the_crate_and_started_together_they_collide() {
     insta::assert_snapshot!(err.replace(shifted.to_str().expect("utf-8 path"), "[shifted.yaml]"));
 }
 
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn skipping_ahead_where_nothing_can_come_close_finds_what_every_step_finds() {
+    // split_lid with its waiting arm started 0 %, 10 %, … 100 % of its wait earlier: from
+    // safe to colliding. The replay that skips ahead where an instant proves the cell clear
+    // must report the same contacts, first found at the same instants, as the one that
+    // checks every 2 mm step (its instants are among the latter's).
+    let (w, s) = time_support::compiled("examples/split_lid.dcl");
+    let first = |r: &str| s.actions.iter().find(|a| a.robot == r).expect("an action of each arm").start;
+    let (late, wait) = if first("r2") > first("r1") { ("r2", first("r2")) } else { ("r1", first("r1")) };
+    let mut contacts = 0;
+    for k in 0..=10 {
+        let mut shifted = s.clone();
+        shift_earlier(&mut shifted, late, wait, wait * k as f64 / 10.0);
+        let run = |every_step| {
+            let opts = declutter::verify::Options { every_step, ..Default::default() };
+            let found = declutter::verify::verify_with(&w, &shifted, &opts).err().unwrap_or_default();
+            found.iter().map(ToString::to_string).collect::<Vec<_>>()
+        };
+        let (skipping, every) = (run(false), run(true));
+        assert_eq!(skipping, every, "shifted by {k}0 % of the wait");
+        contacts += every.iter().filter(|v| v.contains("touches")).count();
+    }
+    assert!(contacts > 0, "some shifts collide");
+}
+
 /// `(example, actions, sequential makespan, concurrent makespan)` of every shipped example
 /// with two or more robots that solves, in file-name order.
 fn makespans() -> Vec<(String, usize, f64, f64)> {

@@ -123,11 +123,11 @@ pub fn verify(file: &Path, schedule_path: &Path, g: &GlobalOptions, o: &VerifyOp
         Ok(s) => s,
         Err(e) => return fail(&loaded.sources, &[e], g),
     };
-    let opts = verify::Options { clearance: o.clearance };
+    let opts = verify::Options { clearance: o.clearance, ..verify::Options::default() };
     match verify::verify_with(&loaded.world, &schedule, &opts) {
         Ok(summary) => {
             eprintln!(
-                "ok: {} verified — {} action{}, {:.3} s replayed at {} instants (no point moved more than {} mm between them)",
+                "ok: {} verified — {} action{}, {:.3} s replayed at {} instants (between two of them no point moves more than {} mm, or nothing can come too close)",
                 path,
                 summary.actions,
                 if summary.actions == 1 { "" } else { "s" },

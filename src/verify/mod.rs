@@ -45,6 +45,8 @@ pub struct Options {
     /// Distance (metres) every moving thing must keep from what it must not touch; 0
     /// demands no contact only.
     pub clearance: f64,
+    /// See [`time::ReplayOptions::every_step`].
+    pub every_step: bool,
 }
 
 /// Checks a schedule against the world it claims to solve.
@@ -184,7 +186,12 @@ pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result
                 .map(|r| world.acceleration_limits(r).iter().map(|a| a * scn.planner.speed).collect())
                 .collect(),
         };
-        let opts = time::ReplayOptions { bound: time::SAMPLE_BOUND, clearance: opts.clearance, limits };
+        let opts = time::ReplayOptions {
+            bound: time::SAMPLE_BOUND,
+            clearance: opts.clearance,
+            limits,
+            every_step: opts.every_step,
+        };
         let (replayed, found) = time::replay(world, &tl, &opts);
         summary.samples = replayed.samples;
         out.extend(found);

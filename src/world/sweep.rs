@@ -175,6 +175,26 @@ impl World {
         check::self_pairs(m, &m.allowed_pairs, 0, 0)
     }
 
+    /// Per collision body (indexed as [`World::bodies`]), then for the flange: which joint
+    /// values move it (a mimic follower's leader too). Two bodies of one robot move
+    /// relative to each other only by the joints that move one and not the other.
+    pub fn body_joints(&self, r: RobotId) -> (Vec<Vec<bool>>, Vec<bool>) {
+        let m = &self.robots[r.index()];
+        let chain = &m.chain;
+        let moved_by = |link: usize| {
+            let mut mask = vec![false; chain.dof()];
+            let mut l = Some(link);
+            while let Some(k) = l {
+                if let Source::Active { index, .. } = chain.links[k].source {
+                    mask[index] = true;
+                }
+                l = chain.links[k].parent;
+            }
+            mask
+        };
+        (m.bodies.iter().map(|b| moved_by(b.link)).collect(), moved_by(chain.flange))
+    }
+
     /// See [`JointReach`]: from the URDF's link offsets and each shape's bounding sphere,
     /// so it holds in every configuration.
     pub fn joint_reach(&self, r: RobotId) -> JointReach {

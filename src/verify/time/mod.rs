@@ -123,6 +123,10 @@ pub struct ReplayOptions {
     /// only for no contact (overlaps within [`crate::world::CONTACT_TOLERANCE`] allowed).
     pub clearance: f64,
     pub limits: RateLimits,
+    /// Check at every step of the bound, never skipping ahead where an instant proves
+    /// that nothing can come too close before a later one: slower, and what the skipping
+    /// is tested against (it finds the same, at the same instants).
+    pub every_step: bool,
 }
 
 /// What a replay looked at.

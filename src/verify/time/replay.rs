@@ -7,7 +7,7 @@ use super::track::{peak_speeds, segment_at, state_at};
 use super::{ReplayOptions, TimeViolation, Timeline, Track};
 use crate::resolve::{ObjectId, RobotId};
 use crate::verify::Violation;
-use crate::world::{JointReach, ObjectSet, World};
+use crate::world::{ObjectSet, World};
 
 /// Samples the timeline from 0 to the makespan; returns the number of instants checked.
 /// Each pair of things too close is reported once, at the first instant found.
@@ -38,7 +38,8 @@ pub(super) fn run(
     let mut last: Vec<Option<Stance>> = vec![None; tracks.len()];
     let mut last_present = usize::MAX;
     let mut still = vec![false; tracks.len()];
-    let mut sample = |t: f64, samples: &mut u64| {
+    // Returns how long from `t` nothing can come too close (see `Cell::free_time`).
+    let mut sample = |t: f64, rates: &[Vec<f64>], samples: &mut u64| -> f64 {
         *samples += 1;
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
             state_at(tr, t, q, qd);
@@ -81,22 +82,31 @@ pub(super) fn run(
                 reported.push((t, f));
             }
         }
+        cell.free_time(&at, &present, rates, &scratch)
     };
+    let mut rates = vec![Vec::new(); tracks.len()];
     for w in times.windows(2) {
         let (ta, tb) = (w[0], w[1]);
-        // The fastest any point of any robot (or what it may carry) moves on this stretch.
+        // How fast each joint of each robot moves any point it moves on this stretch, and
+        // the fastest any point of any robot (or what it may carry) moves.
         let mid = 0.5 * (ta + tb);
-        let mut speed: f64 = 0.0;
-        for (tr, r) in tracks.iter().zip(&reach) {
+        for ((tr, r), rate) in tracks.iter().zip(&reach).zip(rates.iter_mut()) {
             peak_speeds(tr, segment_at(tr, mid), &mut peak);
-            speed = speed.max(JointReach::displacement(r, &peak));
+            *rate = r.iter().zip(&peak).map(|(r, v)| r * v.abs()).collect();
         }
+        let speed = rates.iter().map(|r| r.iter().sum::<f64>()).fold(0.0, f64::max);
+        // Steps of the bound (no point moves more between two instants), or longer where
+        // the instant just checked proves that nothing can come too close before the next.
         let n = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
-        for i in 0..n {
-            sample(ta + (tb - ta) * i as f64 / n as f64, &mut samples);
+        let step = (tb - ta) / n as f64;
+        let mut i = 0u64;
+        while i < n {
+            let free = sample(ta + step * i as f64, &rates, &mut samples);
+            let ahead = if opts.every_step { 1 } else { (free / step).floor() as u64 };
+            i += ahead.clamp(1, n - i);
         }
     }
-    sample(tl.makespan, &mut samples);
+    sample(tl.makespan, &rates, &mut samples);
     for (t, (a, b, distance)) in reported {
         out.push(Violation::timed(Some(t), TimeViolation::Contact { a, b, distance, clearance: opts.clearance }));
     }
