@@ -221,3 +221,20 @@ fn fingers_opened_less_fit_between_the_bottles_and_nothing_moves() {
         assert!(*kind == k && v.len() == 1 && (v[0] - x).abs() < 1e-12, "{events:?}");
     }
 }
+
+#[test]
+fn check_names_the_finger_joints_and_their_postures() {
+    let out = Command::new(env!("CARGO_BIN_EXE_declutter"))
+        .args(["check", "examples/gripper.dcl"])
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("declutter runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l == "  arm: hand `pg` on `flange`; fingers `finger_joint` open [42.5mm], closed [10.0mm]"),
+        "{stderr}"
+    );
+}

@@ -134,3 +134,47 @@ fn the_cell_alone_has_one_keyframe_and_no_actions() {
     assert_eq!(v["actions"], serde_json::json!([]));
     assert!(v["bodies"].as_array().unwrap().iter().all(|b| b["role"] != "removed"));
 }
+
+#[test]
+fn the_page_closes_the_fingers_while_carrying() {
+    // examples/gripper.dcl: a parallel gripper, open 4.25 cm a side; closed 1 cm on
+    // `left`, 3 cm on `right`, 3.3 cm on the can. Its palm and two fingers are drawn apart;
+    // a finger stands off the palm by how far it closed (both ride on the flange).
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(Path::new("examples/gripper.dcl"), &FsLoader, &mut sources).unwrap();
+    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).unwrap();
+    let s = declutter::driver::plan_verified(&w, &|_| {}).unwrap().schedule;
+    let v = blob(&show::show(&w, Some(&s), &[]));
+    let hand: Vec<usize> = v["bodies"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["name"] == "arm pg")
+        .map(|b| b["track"].as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(hand.len(), 3, "the palm and two fingers");
+    let step = v["step"].as_f64().unwrap();
+    let closed_by = |t: f64| {
+        let k = (t / step).round() as usize;
+        let palm = pose_of(&v, k, hand[0]);
+        hand[1..].iter().map(|&f| largest_step(&pose_of(&v, k, f)[..3], &palm[..3])).fold(0.0, f64::max)
+    };
+    let grasps: Vec<(f64, f64)> = s.events.chunks(2).map(|e| (e[0].t, e[1].t)).collect();
+    for ((grasp, release), closed) in grasps.iter().zip([0.01, 0.03, 0.033]) {
+        // Halfway through the carry the fingers stand 4.25 cm − closed in from open; their
+        // offset from the palm's origin in world axes is at most that (and at least its
+        // largest component), so compare its norm.
+        let k = (0.5 * (grasp + release) / step).round() as usize;
+        let palm = pose_of(&v, k, hand[0]);
+        for &f in &hand[1..] {
+            let p = pose_of(&v, k, f);
+            let moved = ((p[0] - palm[0]).powi(2) + (p[1] - palm[1]).powi(2) + (p[2] - palm[2]).powi(2)).sqrt();
+            assert!((moved - (0.0425 - closed)).abs() < 3e-4, "carrying, a finger is {moved} m off the palm");
+        }
+        // Just before the grasp and after the release the hand is open: no offset.
+        assert!(closed_by(grasp - 2.0 * step) < 3e-4);
+        if release + 2.0 * step < s.makespan {
+            assert!(closed_by(release + 2.0 * step) < 3e-4);
+        }
+    }
+}

@@ -82,7 +82,20 @@ pub fn check(file: &Path, g: &GlobalOptions) -> u8 {
             Some(h) => format!("hand `{}` on", scn.hands[h.index()].name),
             None => "no hand; tool frame".to_string(),
         };
-        eprintln!("  {}: {on} `{}`", r.name, w.flange_link(id));
+        let fingers = w.finger_names(id);
+        let gripper = if fingers.is_empty() {
+            String::new()
+        } else {
+            let names: Vec<String> = fingers.iter().map(|f| format!("`{f}`")).collect();
+            let posture = |p: usize| {
+                let v: Vec<String> =
+                    w.finger_values(id, p).iter().enumerate().map(|(k, x)| w.finger_value_text(id, k, *x)).collect();
+                format!("[{}]", v.join(", "))
+            };
+            let closed = if r.closed.is_some() { format!(", closed {}", posture(1)) } else { String::new() };
+            format!("; fingers {} open {}{closed}", names.join(", "), posture(0))
+        };
+        eprintln!("  {}: {on} `{}`{gripper}", r.name, w.flange_link(id));
     }
     for o in &report.objects {
         let total = scn.object(o.object).grasps.len();

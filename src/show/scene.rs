@@ -158,14 +158,15 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
             shapes,
         });
     }
-    // (body index, robot, link) of every robot body, and the TCP body per robot.
-    let mut links: Vec<(usize, RobotId, usize)> = Vec::new();
+    // (body index, robot, link, index among the robot's drawn bodies) of every robot
+    // body, and the TCP body per robot.
+    let mut links: Vec<(usize, RobotId, usize, usize)> = Vec::new();
     let mut tcps: Vec<(usize, RobotId)> = Vec::new();
     for r in scn.robot_ids() {
         let c = r.index() % ROBOT_COLOURS.len();
-        for b in world.drawn_robot(r) {
+        for (k, b) in world.drawn_robot(r).into_iter().enumerate() {
             let hand = scn.robot(r).hand.is_some_and(|h| scn.hands[h.index()].name == b.name);
-            links.push((bodies.len(), r, b.link));
+            links.push((bodies.len(), r, b.link, k));
             bodies.push(BodyData {
                 name: format!("{} {}", scn.robot(r).name, b.name),
                 kind: if hand { "hand" } else { "link" },
@@ -225,6 +226,9 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
         });
     }
 
+    let holding = fingers_closed(world, schedule, timeline);
+    // Per robot, per posture met: where each drawn body stands off its link.
+    let mut offsets: Vec<Vec<(usize, Vec<Pose>)>> = vec![Vec::new(); scn.robots.len()];
     let step = KEYFRAME_STEP.max(timeline.duration / (MAX_KEYFRAMES - 1) as f64);
     let frames = ((timeline.duration / step).ceil() as usize + 1).min(MAX_KEYFRAMES);
     let mut poses = Vec::with_capacity(frames);
@@ -238,8 +242,16 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
                 row[tr * 7..tr * 7 + 7].copy_from_slice(&pose7(p));
             }
         };
-        for &(b, r, link) in &links {
-            put(b, &fk[r.index()][link].1);
+        for r in scn.robot_ids() {
+            let posture = holding.iter().find(|h| h.0 == r && t >= h.1 && t < h.2).map_or(0, |h| h.3);
+            if !offsets[r.index()].iter().any(|(p, _)| *p == posture) {
+                offsets[r.index()].push((posture, world.drawn_offsets(r, posture)));
+            }
+        }
+        for &(b, r, link, k) in &links {
+            let posture = holding.iter().find(|h| h.0 == r && t >= h.1 && t < h.2).map_or(0, |h| h.3);
+            let offset = offsets[r.index()].iter().find(|(p, _)| *p == posture).and_then(|(_, o)| o.get(k));
+            put(b, &(fk[r.index()][link].1 * offset.copied().unwrap_or_else(Pose::identity)));
         }
         for &(b, r) in &tcps {
             put(b, &world.fk_tcp(r, &qs[r.index()]));
@@ -288,6 +300,25 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
         actions,
         violations,
     }
+}
+
+/// Each carry: (robot, grasp time, release time, the fingers' posture while holding).
+fn fingers_closed(world: &World, schedule: Option<&Schedule>, timeline: &Timeline) -> Vec<(RobotId, f64, f64, usize)> {
+    let scn = world.scenario();
+    let Some(s) = schedule else { return Vec::new() };
+    timeline
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Grasp)
+        .map(|g| {
+            let release = timeline.events.iter().find(|e| e.object == g.object && e.kind == EventKind::Release);
+            let name = &scn.object(g.object).body.name;
+            let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(name)).and_then(|a| a.grasp.as_ref());
+            let index = scn.object(g.object).grasps.iter().position(|x| Some(&x.name) == grasp);
+            let posture = index.map_or(0, |i| world.posture_of(g.robot, g.object, i));
+            (g.robot, g.t, release.map_or(f64::INFINITY, |e| e.t), posture)
+        })
+        .collect()
 }
 
 /// Where an object is at `t`: in place, or carried rigidly by the hand since its grasp.

@@ -37,14 +37,19 @@ pub struct DrawnShape {
     pub pose: Pose,
 }
 
-/// A rigid body of a robot: a link's shapes, or the hand's (on the flange link).
+/// A rigid body of a robot: a link's shapes, or the hand's (on the flange link). A
+/// gripper's fingers move apart from the rest of their body as the fingers close: each
+/// part that moves on its own is a body of its own, named as its body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DrawnBody {
     /// The link's name, or the hand's.
     pub name: String,
     /// Index into [`World::fk_links`]'s list: the link the body moves with.
     pub link: usize,
+    /// The shapes with the fingers open.
     pub shapes: Vec<DrawnShape>,
+    /// The robot's shape whose posture offset this body's shapes share.
+    first_shape: usize,
 }
 
 fn drawable(s: &dyn Shape) -> Option<Drawable> {
@@ -71,20 +76,48 @@ fn drawn(s: &dyn Shape, pose: &parry3d_f64::math::Pose) -> Option<DrawnShape> {
 }
 
 impl World {
-    /// The robot's collision bodies, each with the link it moves with.
+    /// The robot's collision bodies, each with the link it moves with, split where the
+    /// fingers' postures move some shapes of a body and not others.
     pub fn drawn_robot(&self, r: RobotId) -> Vec<DrawnBody> {
         let m = &self.robots[r.index()];
-        m.bodies
-            .iter()
-            .map(|b| DrawnBody {
-                name: b.name.clone(),
-                link: b.link,
-                shapes: m.shapes[b.shapes.clone()]
-                    .iter()
-                    .filter_map(|s| drawn(&*s.placed.shape.0, &s.placed.pose))
-                    .collect(),
+        let same = |a: usize, b: usize| {
+            (0..m.postures.len()).all(|p| {
+                let (x, y) = (self.posture_offset(r, a, p), self.posture_offset(r, b, p));
+                (x.translation.vector - y.translation.vector).norm() < 1e-12 && x.rotation.angle_to(&y.rotation) < 1e-12
             })
-            .collect()
+        };
+        let mut out: Vec<DrawnBody> = Vec::new();
+        for b in &m.bodies {
+            let mut first: Option<usize> = None;
+            for si in b.shapes.clone() {
+                let s = &m.shapes[si];
+                let Some(d) = drawn(&*s.placed.shape.0, &s.placed.pose) else { continue };
+                match first {
+                    Some(f) if same(f, si) => out.last_mut().expect("a body was started").shapes.push(d),
+                    _ => {
+                        first = Some(si);
+                        out.push(DrawnBody { name: b.name.clone(), link: b.link, shapes: vec![d], first_shape: si });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Per body of [`World::drawn_robot`], in its order: the pose to apply after its link's
+    /// (right-multiplied) with the fingers in `posture` (0, open: the identity).
+    pub fn drawn_offsets(&self, r: RobotId, posture: usize) -> Vec<Pose> {
+        self.drawn_robot(r).iter().map(|b| self.posture_offset(r, b.first_shape, posture)).collect()
+    }
+
+    /// Where shape `si` stands in `posture` relative to where it stands open, in its link's frame.
+    fn posture_offset(&self, r: RobotId, si: usize, posture: usize) -> Pose {
+        let m = &self.robots[r.index()];
+        let pose = |p: usize| m.postures.get(p).and_then(|p| p.poses.get(si)).map(|x| Pose::from(*x));
+        match (pose(posture), pose(0)) {
+            (Some(now), Some(open)) => now * open.inverse(),
+            _ => Pose::identity(),
+        }
     }
     /// The object's shapes in its body frame.
     pub fn drawn_object(&self, o: ObjectId) -> Vec<DrawnShape> {

@@ -187,6 +187,16 @@ impl World {
     pub fn finger_names(&self, r: RobotId) -> Vec<&str> {
         self.robots[r.index()].fingers.iter().map(|f| f.name.as_str()).collect()
     }
+    /// A finger joint's value as written in a scenario: an angle for one that turns, a
+    /// length for one that slides.
+    pub fn finger_value_text(&self, r: RobotId, finger: usize, value: f64) -> String {
+        let turns = self.robots[r.index()].fingers.get(finger).is_some_and(|f| f.turns);
+        if turns {
+            format!("{:.1}deg", value.to_degrees())
+        } else {
+            format!("{:.1}mm", value * 1e3)
+        }
+    }
     /// The finger joints' values in a posture (0, open: the hand empty; a [`Held`]'s
     /// while carrying).
     pub fn finger_values(&self, r: RobotId, posture: usize) -> &[f64] {
