@@ -7,7 +7,7 @@ use super::prm::{PrmOptions, RobotPlanner};
 use super::space::{Mode, Space};
 use super::{Answer, Goal, Oracle};
 use crate::resolve::{ObjectId, Objective, PlannerSettings, RobotId};
-use crate::world::{Check, CheckCtx, GraspConfig, Held, World};
+use crate::world::{Blocker, Check, CheckCtx, GraspConfig, Held, ObjectSet, World};
 
 /// One robot of a world as a [`Space`]; the other robots stand at home.
 pub struct RobotSpace<'w> {
@@ -67,6 +67,22 @@ impl Space for RobotSpace<'_> {
     }
     fn held(&self, o: ObjectId, grasp: usize, q_grasp: &[f64]) -> Held {
         self.world.held(self.robot, o, grasp, q_grasp)
+    }
+    fn fingers_clear(&self, held: &Held, q_grasp: &[f64], checks: &mut u64) -> Result<ObjectSet, Blocker> {
+        let absent = ObjectSet::single(held.object);
+        let mut touched = ObjectSet::new();
+        for q in [q_grasp, self.world.drop_config(self.robot)] {
+            for &posture in self.world.closing(self.robot, held.posture) {
+                let c = CheckCtx::with_held(absent.clone(), Held { posture, ..held.clone() });
+                let found = self.world.check(self.robot, q, &c);
+                *checks += c.count();
+                match found {
+                    Check::Blocked(b) => return Err(b),
+                    Check::Touches(objects) => touched.union_with(&objects),
+                }
+            }
+        }
+        Ok(touched)
     }
     fn why_no_grasp(&self, o: ObjectId) -> Option<String> {
         Some(crate::world::why_ungraspable(self.world, self.robot, o))

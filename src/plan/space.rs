@@ -5,7 +5,7 @@
 //! [`World`](crate::world::World) and tests implement it on exact 2-D geometry.
 
 use crate::resolve::ObjectId;
-use crate::world::{Check, GraspConfig, Held, ObjectSet};
+use crate::world::{Blocker, Check, GraspConfig, Held, ObjectSet};
 
 /// What the scene looks like for one check: objects taken out of it, and what the hand carries.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -40,6 +40,12 @@ pub trait Space: Sync {
     fn grasps(&self, o: ObjectId) -> Vec<GraspConfig>;
     /// The object `o` as carried after grasping it at `q_grasp`.
     fn held(&self, o: ObjectId, grasp: usize, q_grasp: &[f64]) -> Held;
+    /// What the fingers touch closing on `held` at `q_grasp` and opening again at the
+    /// drop, besides the object: the objects in place they touch (to be removed first, as
+    /// the approach's), or `Err` with the fixed body or robot they hit.
+    fn fingers_clear(&self, _held: &Held, _q_grasp: &[f64], _checks: &mut u64) -> Result<ObjectSet, Blocker> {
+        Ok(ObjectSet::new())
+    }
     /// Why `grasps(o)` is empty, in words naming the cause, where the space can tell.
     fn why_no_grasp(&self, _o: ObjectId) -> Option<String> {
         None

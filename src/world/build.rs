@@ -88,7 +88,8 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             }
         }
         let hand_model = hand.map(|(_, hm)| hm);
-        let (fingers, stances, grasp_posture) = ctx.finger_stances(scn, r, &chain, hand_model);
+        let (fingers, mut stances, grasp_posture) = ctx.finger_stances(scn, r, &chain, hand_model);
+        let closing = super::fingers::closing_stances(&fingers, &mut stances);
         let postures: Vec<Posture> =
             stances.iter().map(|v| posture(&chain, hand_model, &shapes, &bodies, hand_start, v)).collect();
         // The shapes themselves stand open: what reads them directly (the other robots'
@@ -114,6 +115,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             fingers,
             postures,
             grasp_posture,
+            closing,
         });
     }
 

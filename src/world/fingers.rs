@@ -146,6 +146,39 @@ pub(super) fn posture(
     Posture { values: values.to_vec(), poses }
 }
 
+/// The stances the fingers pass through between open (`stances[0]`) and each other
+/// stance, appended to `stances`: spaced so that a sliding finger moves at most
+/// [`FINGER_STEP`] and a turning one [`FINGER_TURN_STEP`] between two. Returns, per
+/// original stance, the indices of its intermediate ones, from open on.
+pub(super) fn closing_stances(fingers: &[FingerJoint], stances: &mut Vec<Vec<f64>>) -> Vec<Vec<usize>> {
+    let Some(open) = stances.first().cloned() else { return Vec::new() };
+    let n = stances.len();
+    let mut out = vec![Vec::new(); n];
+    for (p, closing) in out.iter_mut().enumerate().skip(1) {
+        let to = stances[p].clone();
+        let parts = fingers
+            .iter()
+            .zip(open.iter().zip(&to))
+            .map(|(f, (a, b))| {
+                let step = if f.turns { FINGER_TURN_STEP } else { FINGER_STEP / f.spread.max(1.0) };
+                ((b - a).abs() / step).ceil()
+            })
+            .fold(1.0, f64::max)
+            .min(1000.0) as usize;
+        for k in 1..parts {
+            let s = k as f64 / parts as f64;
+            stances.push(open.iter().zip(&to).map(|(a, b)| a + (b - a) * s).collect());
+            closing.push(stances.len() - 1);
+        }
+    }
+    out
+}
+
+/// How far a sliding finger moves between two checked stances while closing (metres).
+pub const FINGER_STEP: f64 = 0.002;
+/// How far a turning finger turns between two checked stances while closing (radians).
+pub const FINGER_TURN_STEP: f64 = 0.02;
+
 /// The finger values that close sliding fingers to `width`: every finger joint at the
 /// same value, their openings (each joint's value times the links it slides) adding up
 /// to it.

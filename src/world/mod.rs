@@ -183,6 +183,11 @@ impl World {
         let m = &self.robots[r.index()];
         m.grasp_posture.get(o.index()).and_then(|g| g.get(grasp)).copied().unwrap_or(robot::OPEN)
     }
+    /// The postures the fingers pass through between open and `posture` (from open on;
+    /// none for open): checked at the instant they close on an object and open again.
+    pub fn closing(&self, r: RobotId, posture: usize) -> &[usize] {
+        self.robots[r.index()].closing.get(posture).map_or(&[], Vec::as_slice)
+    }
     /// The gripper's finger joints (the arm URDF's, then the hand's), for a controller.
     pub fn finger_names(&self, r: RobotId) -> Vec<&str> {
         self.robots[r.index()].fingers.iter().map(|f| f.name.as_str()).collect()

@@ -52,6 +52,8 @@ pub(crate) struct RobotModel {
     pub postures: Vec<Posture>,
     /// Per object, per grasp: the posture the fingers hold it in.
     pub grasp_posture: Vec<Vec<usize>>,
+    /// Per posture: the postures the fingers pass through from open to it (none for open).
+    pub closing: Vec<Vec<usize>>,
 }
 
 /// One stance of the fingers: their joint values, and every shape's pose in its body's

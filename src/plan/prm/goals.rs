@@ -155,6 +155,7 @@ impl<S: Space> RobotPlanner<S> {
     ) -> (Vec<GraspGoal>, Vec<Blocker>) {
         let mut out = Vec::new();
         let mut blocked = Vec::new();
+        let mut closing: Vec<Blocker> = Vec::new();
         // Keyed by position: selectGrasps may return several solutions of one grasp.
         for (g, cfg) in grasps.into_iter().enumerate() {
             let (pre, lab) = self.goal_node(&cfg.q_pregrasp, checks);
@@ -167,6 +168,13 @@ impl<S: Space> RobotPlanner<S> {
             }
             let g = g as u32;
             let held = self.space.held(o, cfg.grasp, &cfg.q_grasp);
+            // Fingers that would hit something fixed closing on the object (or opening at
+            // the drop) rule the grasp out, saying what they hit; objects they would touch
+            // are in the approach's label (see `eval`).
+            if let Err(b) = self.space.fingers_clear(&held, &cfg.q_grasp, checks) {
+                closing.push(b);
+                continue;
+            }
             let item = LabelKey::Approach(o, g);
             let cached = self.lock(
                 |s| {
@@ -203,6 +211,11 @@ impl<S: Space> RobotPlanner<S> {
         }
         // Only on failure: check the blocked grasps again to say what blocks them.
         let mut blockers: Vec<Blocker> = Vec::new();
+        for b in closing {
+            if !blockers.contains(&b) {
+                blockers.push(b);
+            }
+        }
         for (cfg, held) in blocked {
             let b = match held {
                 None => self.blocker(&cfg.q_pregrasp),

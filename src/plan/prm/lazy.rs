@@ -30,7 +30,23 @@ impl<S: Space> RobotPlanner<S> {
             // object pass the same samples, and a check carrying an object finds all the
             // empty hand finds (the robot's own bodies are checked the same way) plus what
             // the object touches: the retreat alone gives the union.
-            (_, Some(grasp)) => seg(grasp, &job.a, &job.mode, checks),
+            // A gripper that closes on the object goes in open: then the way in is checked
+            // with the fingers open too, and the fingers' closing, and the labels joined.
+            (_, Some(grasp)) => match (seg(grasp, &job.a, &job.mode, checks), &job.mode.held) {
+                (Check::Touches(mut l), Some(held)) if held.posture != 0 => {
+                    let open = Mode { absent: job.mode.absent.clone(), held: None };
+                    match seg(&job.a, grasp, &open, checks) {
+                        Check::Touches(o) => l.union_with(&o),
+                        Check::Blocked(_) => return None,
+                    }
+                    match self.space.fingers_clear(held, grasp, checks) {
+                        Ok(o) => l.union_with(&o),
+                        Err(_) => return None,
+                    }
+                    Check::Touches(l)
+                }
+                (c, _) => c,
+            },
             // Carrying, with the empty hand's label of this edge known: the robot's own
             // bodies meet the same things (less the object, now in the hand), so only the
             // object needs checking; an edge blocked for the empty hand stays blocked.

@@ -7,7 +7,7 @@ use super::track::{peak_speeds, segment_at, state_at};
 use super::{ReplayOptions, TimeViolation, Timeline, Track};
 use crate::resolve::{ObjectId, RobotId};
 use crate::verify::Violation;
-use crate::world::{ObjectSet, World};
+use crate::world::{Held, ObjectSet, World};
 
 /// Samples the timeline from 0 to the makespan; returns the number of instants checked.
 /// Each pair of things too close is reported once, at the first instant found.
@@ -39,7 +39,9 @@ pub(super) fn run(
     let mut last_present = usize::MAX;
     let mut still = vec![false; tracks.len()];
     // Returns how long from `t` nothing can come too close (see `Cell::free_time`).
-    let mut sample = |t: f64, rates: &[Vec<f64>], samples: &mut u64| -> f64 {
+    // `closing`: one robot (by track) holding what it holds with its fingers in another
+    // posture, on their way between open and closed.
+    let mut sample = |t: f64, rates: &[Vec<f64>], samples: &mut u64, closing: Option<(usize, &Held)>| -> f64 {
         *samples += 1;
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
             state_at(tr, t, q, qd);
@@ -54,13 +56,12 @@ pub(super) fn run(
         let at: Vec<RobotAt> = tracks
             .iter()
             .zip(&state)
-            .map(|(tr, (q, _))| RobotAt {
+            .enumerate()
+            .map(|(ti, (tr, (q, _)))| RobotAt {
                 q,
-                held: marks
-                    .carries
-                    .iter()
-                    .find(|c| c.robot == tr.robot && t >= c.grasp && t < c.release)
-                    .map(|c| &c.held),
+                held: closing.filter(|(k, _)| *k == ti).map(|(_, h)| h).or_else(|| {
+                    marks.carries.iter().find(|c| c.robot == tr.robot && t >= c.grasp && t < c.release).map(|c| &c.held)
+                }),
                 exempt: marks
                     .carries
                     .iter()
@@ -71,7 +72,7 @@ pub(super) fn run(
         let in_place = present.len();
         for (ri, ra) in at.iter().enumerate() {
             let now = (ra.q.to_vec(), ra.held.map(|h| h.object), ra.exempt);
-            still[ri] = in_place <= last_present && last[ri].as_ref() == Some(&now);
+            still[ri] = closing.is_none() && in_place <= last_present && last[ri].as_ref() == Some(&now);
             last[ri] = Some(now);
         }
         last_present = in_place;
@@ -101,12 +102,23 @@ pub(super) fn run(
         let step = (tb - ta) / n as f64;
         let mut i = 0u64;
         while i < n {
-            let free = sample(ta + step * i as f64, &rates, &mut samples);
+            let free = sample(ta + step * i as f64, &rates, &mut samples, None);
             let ahead = if opts.every_step { 1 } else { (free / step).floor() as u64 };
             i += ahead.clamp(1, n - i);
         }
     }
-    sample(tl.makespan, &rates, &mut samples);
+    sample(tl.makespan, &rates, &mut samples, None);
+    // The fingers close on each object at its grasp and open at its release: each posture
+    // on the way, with everything else as it is at that instant.
+    for c in &marks.carries {
+        let Some(ti) = tracks.iter().position(|tr| tr.robot == c.robot) else { continue };
+        for t in [c.grasp, c.release].into_iter().filter(|t| t.is_finite() && *t <= tl.makespan) {
+            for &posture in world.closing(c.robot, c.held.posture) {
+                let held = Held { posture, ..c.held.clone() };
+                sample(t, &rates, &mut samples, Some((ti, &held)));
+            }
+        }
+    }
     for (t, (a, b, distance)) in reported {
         out.push(Violation::timed(Some(t), TimeViolation::Contact { a, b, distance, clearance: opts.clearance }));
     }
