@@ -171,7 +171,7 @@ fn the_panda_carries_the_can_with_its_fingers_closed_as_closed_or_width_says() {
         // than open: the fingers' own offset, whatever the arm's configuration.
         let a = &s.actions[0];
         let q = a.retreat[0].clone();
-        let grasp = w.scenario().object(can).grasps.iter().position(|g| Some(&g.name) == a.grasp.as_ref());
+        let grasp = a.grasp.as_deref().and_then(|g| w.scenario().object(can).grasp_index(g));
         let held = w.held(arm, can, grasp.expect("the grasp is the can's"), &q);
         let (mut open, mut shut) = (Vec::new(), Vec::new());
         w.pose_shapes(arm, &q, None, &mut open);

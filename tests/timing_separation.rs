@@ -23,8 +23,8 @@ fn held_at(w: &World, s: &Schedule, r: RobotId, t: f64) -> Option<Held> {
             return None;
         }
         let o = w.scenario().object_ids().find(|&o| w.scenario().object(o).body.name == g.object)?;
-        let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(&g.object)).and_then(|a| a.grasp.as_ref());
-        let grasp = w.scenario().object(o).grasps.iter().position(|x| Some(&x.name) == grasp)?;
+        let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(&g.object)).and_then(|a| a.grasp.as_deref());
+        let grasp = w.scenario().object(o).grasp_index(grasp?)?;
         Some(w.held(r, o, grasp, &hermite(&traj.points, g.t)))
     })
 }

@@ -174,6 +174,13 @@ pub struct Object {
     pub grasps: Vec<Grasp>,
 }
 
+impl Object {
+    /// The index of the grasp named (expanded, as `top#2`) `name`.
+    pub fn grasp_index(&self, name: &str) -> Option<usize> {
+        self.grasps.iter().position(|g| g.name == name)
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum Target {
     /// Grasp this object, removing whatever blocks it.

@@ -209,11 +209,11 @@ pub fn build(world: &World, sol: &Solution, execution: Execution) -> Schedule {
     for e in &mut s.events {
         let (Some(r), Some(o)) = (scn.robot_by_name(&e.robot), scn.object_by_name(&e.object)) else { continue };
         let posture = match e.kind {
-            EventKind::Release => 0,
+            EventKind::Release => crate::world::OPEN_POSTURE,
             EventKind::Grasp => {
                 let grasp =
-                    s.actions.iter().find(|a| a.object.as_ref() == Some(&e.object)).and_then(|a| a.grasp.as_ref());
-                let g = scn.object(o).grasps.iter().position(|g| Some(&g.name) == grasp).unwrap_or(usize::MAX);
+                    s.actions.iter().find(|a| a.object.as_ref() == Some(&e.object)).and_then(|a| a.grasp.as_deref());
+                let g = grasp.and_then(|g| scn.object(o).grasp_index(g)).unwrap_or(usize::MAX);
                 world.posture_of(r, o, g)
             }
         };

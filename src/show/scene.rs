@@ -7,7 +7,7 @@ use super::timeline::{EventKind, Timeline};
 use crate::resolve::{FixedId, ObjectId, Pose, RobotId, Target};
 use crate::schedule::Schedule;
 use crate::verify::{Location, Violation};
-use crate::world::{Drawable, DrawnShape, World};
+use crate::world::{Drawable, DrawnShape, World, OPEN_POSTURE};
 
 /// Time between keyframes (s). A joint turning at 2 rad/s turns 0.08 rad between two:
 /// the page's straight interpolation of a link 1 m out cuts the arc by under 1 mm.
@@ -242,14 +242,17 @@ pub fn build(world: &World, schedule: Option<&Schedule>, timeline: &Timeline, vi
                 row[tr * 7..tr * 7 + 7].copy_from_slice(&pose7(p));
             }
         };
-        for r in scn.robot_ids() {
-            let posture = holding.iter().find(|h| h.0 == r && t >= h.1 && t < h.2).map_or(0, |h| h.3);
+        let postures: Vec<usize> = scn
+            .robot_ids()
+            .map(|r| holding.iter().find(|h| h.0 == r && t >= h.1 && t < h.2).map_or(OPEN_POSTURE, |h| h.3))
+            .collect();
+        for (r, &posture) in scn.robot_ids().zip(&postures) {
             if !offsets[r.index()].iter().any(|(p, _)| *p == posture) {
                 offsets[r.index()].push((posture, world.drawn_offsets(r, posture)));
             }
         }
         for &(b, r, link, k) in &links {
-            let posture = holding.iter().find(|h| h.0 == r && t >= h.1 && t < h.2).map_or(0, |h| h.3);
+            let posture = postures[r.index()];
             let offset = offsets[r.index()].iter().find(|(p, _)| *p == posture).and_then(|(_, o)| o.get(k));
             put(b, &(fk[r.index()][link].1 * offset.copied().unwrap_or_else(Pose::identity)));
         }
@@ -313,9 +316,9 @@ fn fingers_closed(world: &World, schedule: Option<&Schedule>, timeline: &Timelin
         .map(|g| {
             let release = timeline.events.iter().find(|e| e.object == g.object && e.kind == EventKind::Release);
             let name = &scn.object(g.object).body.name;
-            let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(name)).and_then(|a| a.grasp.as_ref());
-            let index = scn.object(g.object).grasps.iter().position(|x| Some(&x.name) == grasp);
-            let posture = index.map_or(0, |i| world.posture_of(g.robot, g.object, i));
+            let grasp = s.actions.iter().find(|a| a.object.as_ref() == Some(name)).and_then(|a| a.grasp.as_deref());
+            let index = grasp.and_then(|x| scn.object(g.object).grasp_index(x));
+            let posture = index.map_or(OPEN_POSTURE, |i| world.posture_of(g.robot, g.object, i));
             (g.robot, g.t, release.map_or(f64::INFINITY, |e| e.t), posture)
         })
         .collect()
@@ -330,7 +333,8 @@ fn object_pose(world: &World, timeline: &Timeline, o: ObjectId, t: f64, qs: &[Ve
     let release = timeline.events.iter().find(|e| e.object == o && e.kind == EventKind::Release);
     let until = release.map_or(f64::INFINITY, |e| e.t);
     let track = &timeline.tracks[g.robot.index()];
-    // The object rides with the flange; how the fingers close does not move it.
+    // The object rides with the flange; how the fingers close (which grasp, here the
+    // first) does not move it.
     let held = world.held(g.robot, o, 0, &track.sample(g.t));
     let q = if t <= until { qs[g.robot.index()].clone() } else { track.sample(until) };
     world.fk_flange(g.robot, &q) * held.pose_flange_object

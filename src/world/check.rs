@@ -19,9 +19,10 @@ use parry3d_f64::shape::Shape;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::robot::{assert_dof, RobotModel, OPEN};
+use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
 use super::shapes::{aabb_of, to_ppose, Obb, Placed, CONTACT_TOLERANCE};
+use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::RobotId;
 
@@ -108,10 +109,8 @@ fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
     s.shape_pose.clear();
     s.shape_aabb.clear();
-    let posed = m.postures.get(posture).map(|p| &p.poses[..]);
     for (si, sh) in m.shapes.iter().enumerate() {
-        let local = posed.and_then(|p| p.get(si)).unwrap_or(&sh.placed.pose);
-        let pose = s.link_pose[m.bodies[sh.body].link] * *local;
+        let pose = s.link_pose[m.bodies[sh.body].link] * *m.shape_pose(si, posture);
         s.shape_aabb.push(aabb_of(&*sh.placed.shape.0, &pose));
         s.shape_pose.push(pose);
     }

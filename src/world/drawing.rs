@@ -48,8 +48,6 @@ pub struct DrawnBody {
     pub link: usize,
     /// The shapes with the fingers open.
     pub shapes: Vec<DrawnShape>,
-    /// The robot's shape whose posture offset this body's shapes share.
-    first_shape: usize,
 }
 
 fn drawable(s: &dyn Shape) -> Option<Drawable> {
@@ -80,23 +78,47 @@ impl World {
     /// fingers' postures move some shapes of a body and not others.
     pub fn drawn_robot(&self, r: RobotId) -> Vec<DrawnBody> {
         let m = &self.robots[r.index()];
+        self.drawn_parts(r)
+            .into_iter()
+            .map(|(body, shapes)| {
+                let b = &m.bodies[body];
+                DrawnBody {
+                    name: b.name.clone(),
+                    link: b.link,
+                    shapes: shapes
+                        .iter()
+                        .filter_map(|&si| drawn(&*m.shapes[si].placed.shape.0, &m.shapes[si].placed.pose))
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+
+    /// Per body of [`World::drawn_robot`], in its order: the pose to apply after its link's
+    /// (right-multiplied) with the fingers in `posture` (open: the identity).
+    pub fn drawn_offsets(&self, r: RobotId, posture: usize) -> Vec<Pose> {
+        self.drawn_parts(r).iter().map(|(_, shapes)| self.posture_offset(r, shapes[0], posture)).collect()
+    }
+
+    /// The drawn bodies as (collision body, its shapes): each body's shapes in runs that
+    /// every finger posture moves alike.
+    fn drawn_parts(&self, r: RobotId) -> Vec<(usize, Vec<usize>)> {
+        let m = &self.robots[r.index()];
         let same = |a: usize, b: usize| {
             (0..m.postures.len()).all(|p| {
                 let (x, y) = (self.posture_offset(r, a, p), self.posture_offset(r, b, p));
                 (x.translation.vector - y.translation.vector).norm() < 1e-12 && x.rotation.angle_to(&y.rotation) < 1e-12
             })
         };
-        let mut out: Vec<DrawnBody> = Vec::new();
-        for b in &m.bodies {
+        let mut out: Vec<(usize, Vec<usize>)> = Vec::new();
+        for (bi, b) in m.bodies.iter().enumerate() {
             let mut first: Option<usize> = None;
             for si in b.shapes.clone() {
-                let s = &m.shapes[si];
-                let Some(d) = drawn(&*s.placed.shape.0, &s.placed.pose) else { continue };
-                match first {
-                    Some(f) if same(f, si) => out.last_mut().expect("a body was started").shapes.push(d),
+                match (first, out.last_mut()) {
+                    (Some(f), Some(part)) if same(f, si) => part.1.push(si),
                     _ => {
                         first = Some(si);
-                        out.push(DrawnBody { name: b.name.clone(), link: b.link, shapes: vec![d], first_shape: si });
+                        out.push((bi, vec![si]));
                     }
                 }
             }
@@ -104,17 +126,11 @@ impl World {
         out
     }
 
-    /// Per body of [`World::drawn_robot`], in its order: the pose to apply after its link's
-    /// (right-multiplied) with the fingers in `posture` (0, open: the identity).
-    pub fn drawn_offsets(&self, r: RobotId, posture: usize) -> Vec<Pose> {
-        self.drawn_robot(r).iter().map(|b| self.posture_offset(r, b.first_shape, posture)).collect()
-    }
-
     /// Where shape `si` stands in `posture` relative to where it stands open, in its link's frame.
     fn posture_offset(&self, r: RobotId, si: usize, posture: usize) -> Pose {
         let m = &self.robots[r.index()];
         let pose = |p: usize| m.postures.get(p).and_then(|p| p.poses.get(si)).map(|x| Pose::from(*x));
-        match (pose(posture), pose(0)) {
+        match (pose(posture), pose(super::OPEN_POSTURE)) {
             (Some(now), Some(open)) => now * open.inverse(),
             _ => Pose::identity(),
         }

@@ -32,7 +32,7 @@ impl LoadCtx<'_> {
                 stances.push(c);
                 1
             }
-            None => 0,
+            None => super::OPEN_POSTURE,
         };
         let mut per_object = Vec::with_capacity(scn.objects.len());
         for o in &scn.objects {

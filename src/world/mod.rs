@@ -34,7 +34,7 @@ pub use grasps::{
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
-pub use proximity::RobotAt;
+pub use proximity::{aabb_gap, RobotAt};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 pub use urdf::DEFAULT_VELOCITY;
@@ -181,7 +181,7 @@ impl World {
     /// The fingers' posture holding `o` by its grasp `grasp` (open for an unknown grasp).
     pub fn posture_of(&self, r: RobotId, o: ObjectId, grasp: usize) -> usize {
         let m = &self.robots[r.index()];
-        m.grasp_posture.get(o.index()).and_then(|g| g.get(grasp)).copied().unwrap_or(robot::OPEN)
+        m.grasp_posture.get(o.index()).and_then(|g| g.get(grasp)).copied().unwrap_or(OPEN_POSTURE)
     }
     /// The postures the fingers pass through between open and `posture` (from open on;
     /// none for open): checked at the instant they close on an object and open again.
@@ -233,6 +233,9 @@ impl World {
         check::check_motion(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
     }
 }
+
+/// The fingers' posture with the hand empty: open.
+pub const OPEN_POSTURE: usize = 0;
 
 /// Samples per planner step when a motion is certified (the verifier's "quarter of the
 /// resolution").

@@ -27,7 +27,7 @@ struct Posed {
 
 /// Gap between two boxes (0 when they overlap): never more than the distance between
 /// anything inside them.
-fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
+pub fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     let d = (a.mins - b.maxs).max(b.mins - a.maxs).max(parry3d_f64::math::Vector::ZERO);
     d.length()
 }

@@ -63,8 +63,13 @@ pub(crate) struct Posture {
     pub poses: Vec<PPose>,
 }
 
-/// The posture used when the hand is empty.
-pub(crate) const OPEN: usize = 0;
+impl RobotModel {
+    /// Shape `si`'s pose in its body's link frame with the fingers in `posture`.
+    #[inline]
+    pub fn shape_pose(&self, si: usize, posture: usize) -> &PPose {
+        self.postures.get(posture).and_then(|p| p.poses.get(si)).unwrap_or(&self.shapes[si].placed.pose)
+    }
+}
 
 /// The contract of every public method taking a configuration (documented on
 /// [`World::fk_flange`]): a wrong length is the caller's bug, reported plainly here

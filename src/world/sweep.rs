@@ -113,11 +113,9 @@ impl World {
         let mut links = vec![Isometry3::identity(); m.chain.links.len()];
         m.chain.fk_into(q, &mut links);
         out.clear();
-        let posture = held.map_or(super::robot::OPEN, |h| h.posture);
-        let posed = m.postures.get(posture).map(|p| &p.poses[..]);
+        let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
         for (si, s) in m.shapes.iter().enumerate() {
-            let local = posed.and_then(|p| p.get(si)).unwrap_or(&s.placed.pose);
-            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * *local;
+            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * *m.shape_pose(si, posture);
             let aabb = aabb_of(&*s.placed.shape.0, &pose);
             out.push(PosedShape {
                 body: s.body,
@@ -204,8 +202,13 @@ impl World {
 
 /// Distance from the frame's origin to the farthest point of a shape placed in it by `pose`.
 fn radius_about_origin(pose: &PPose, p: &Placed) -> f64 {
-    let sphere = p.shape.0.compute_local_bounding_sphere();
-    (*pose * p.pose).transform_point(sphere.center).length() + sphere.radius
+    radius_at(&(*pose * p.pose), &p.shape)
+}
+
+/// Distance from the frame's origin to the farthest point of `shape` at `pose` in it.
+fn radius_at(pose: &PPose, shape: &SharedShape) -> f64 {
+    let sphere = shape.0.compute_local_bounding_sphere();
+    pose.transform_point(sphere.center).length() + sphere.radius
 }
 
 fn joint_reach(m: &RobotModel) -> JointReach {
@@ -232,11 +235,8 @@ fn joint_reach(m: &RobotModel) -> JointReach {
     let mut own = vec![0.0f64; n];
     for (si, s) in m.shapes.iter().enumerate() {
         let l = m.bodies[s.body].link;
-        own[l] = own[l].max(radius_about_origin(&PPose::IDENTITY, &s.placed));
-        for p in &m.postures {
-            if let Some(pose) = p.poses.get(si) {
-                own[l] = own[l].max(radius_about_origin(&(*pose * s.placed.pose.inverse()), &s.placed));
-            }
+        for p in 0..m.postures.len().max(1) {
+            own[l] = own[l].max(radius_at(m.shape_pose(si, p), &s.placed.shape));
         }
     }
     // Farthest point of the subtree below each link, from that link's origin. Parents

@@ -10,7 +10,7 @@ use super::super::search::{fewest_removals, fewest_vertices, Found, Len};
 use super::super::space::{Mode, Space};
 use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
-use crate::world::{Check, ObjectSet};
+use crate::world::{Check, ObjectSet, OPEN_POSTURE};
 
 impl<S: Space> RobotPlanner<S> {
     /// Labels one item. Segments, the straight approach included, are checked every
@@ -33,7 +33,7 @@ impl<S: Space> RobotPlanner<S> {
             // A gripper that closes on the object goes in open: then the way in is checked
             // with the fingers open too, and the fingers' closing, and the labels joined.
             (_, Some(grasp)) => match (seg(grasp, &job.a, &job.mode, checks), &job.mode.held) {
-                (Check::Touches(mut l), Some(held)) if held.posture != 0 => {
+                (Check::Touches(mut l), Some(held)) if held.posture != OPEN_POSTURE => {
                     let open = Mode { absent: job.mode.absent.clone(), held: None };
                     match seg(&job.a, grasp, &open, checks) {
                         Check::Touches(o) => l.union_with(&o),

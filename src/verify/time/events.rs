@@ -74,7 +74,7 @@ pub(super) fn check_actions(world: &World, tl: &Timeline, tracks: &[&Track], out
         // The fingers: closed as the scenario says on the object at the grasp, open at the release.
         for (kind, e, posture) in [
             (EventKind::Grasp, grasp_event, world.posture_of(a.robot, o, a.grasp)),
-            (EventKind::Release, release_event, 0),
+            (EventKind::Release, release_event, crate::world::OPEN_POSTURE),
         ] {
             let Some((t, found)) = e else { continue };
             let expected = world.finger_values(a.robot, posture);

@@ -44,9 +44,8 @@ pub fn timeline<'s>(world: &World, s: &'s Schedule, out: &mut Vec<Violation>) ->
                 None => None,
             };
             // An unknown grasp is reported by the action checks; it holds with the fingers open.
-            let grasp = object
-                .and_then(|o| scn.object(o).grasps.iter().position(|g| Some(&g.name) == a.grasp.as_ref()))
-                .unwrap_or(usize::MAX);
+            let grasp =
+                object.zip(a.grasp.as_deref()).and_then(|(o, g)| scn.object(o).grasp_index(g)).unwrap_or(usize::MAX);
             Some(TimedAction {
                 id: a.id,
                 robot,

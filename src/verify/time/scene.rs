@@ -11,7 +11,7 @@ use parry3d_f64::shape::Shape;
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{
-    BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
+    aabb_gap, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
 };
 
 /// One robot at the instant.
@@ -337,11 +337,4 @@ fn near(a: Side, b: Side, clearance: f64) -> Option<Option<f64>> {
         },
     };
     touching.then_some(None)
-}
-
-/// Gap between two boxes (0 when they overlap): never more than the distance between
-/// anything inside them.
-fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
-    let d = (a.mins - b.maxs).max(b.mins - a.maxs).max(parry3d_f64::math::Vector::ZERO);
-    d.length()
 }
