@@ -7,7 +7,7 @@
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::query;
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{Shape, SharedShape};
 
 use super::{Held, World};
 use crate::resolve::RobotId;
@@ -30,6 +30,18 @@ struct Posed {
 pub fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     let d = (a.mins - b.maxs).max(b.mins - a.maxs).max(parry3d_f64::math::Vector::ZERO);
     d.length()
+}
+
+/// The distance between two placed shapes (0 when they touch), `None` when parry3d
+/// cannot measure the pair. Two convex shapes are measured by GJK on their support maps:
+/// parry3d's own cuboid–cuboid distance takes its closest points from the best separating
+/// axis and can overstate the distance by centimetres (a test below shows 7 mm), which a
+/// safety check must never do.
+pub fn shape_distance(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> Option<f64> {
+    if let (Some(a), Some(b)) = (s1.as_support_map(), s2.as_support_map()) {
+        return Some(query::details::distance_support_map_support_map(&p1.inv_mul(p2), a, b));
+    }
+    query::distance(p1, s1, p2, s2).ok().map(|d| d.distance)
 }
 
 impl World {
@@ -60,7 +72,7 @@ impl World {
                 let d = if gap >= near {
                     gap
                 } else {
-                    query::distance(posea, &*sa.0, poseb, &*sb.0).map_or(gap, |d| d.distance.max(gap))
+                    shape_distance(posea, &*sa.0, poseb, &*sb.0).map_or(gap, |d| d.max(gap))
                 };
                 best = best.min(d);
                 if best <= 0.0 {
@@ -76,6 +88,7 @@ impl World {
 mod tests {
     use super::*;
     use parry3d_f64::math::Vector;
+    use parry3d_f64::shape::Cuboid;
 
     #[test]
     fn the_gap_of_boxes_is_the_distance_between_their_nearest_corners() {
@@ -84,5 +97,47 @@ mod tests {
         let b = Aabb::new(Vector::new(2.0, 3.0, 0.0), Vector::new(3.0, 4.0, 1.0));
         assert!((aabb_gap(&a, &b) - 5f64.sqrt()).abs() < 1e-12);
         assert_eq!(aabb_gap(&a, &a), 0.0);
+    }
+
+    /// The least distance from points on `b`'s surface (a grid of `n` per edge) to the box
+    /// `a` at the origin: an upper bound on the true distance, within the grid's spacing.
+    fn sampled_distance(a: &Cuboid, pose_b: &PPose, b: &Cuboid, n: usize) -> f64 {
+        let (ha, hb) = (a.half_extents, b.half_extents);
+        let mut best = f64::INFINITY;
+        let at = |i: usize, h: f64| -h + 2.0 * h * i as f64 / n as f64;
+        for i in 0..=n {
+            for j in 0..=n {
+                for k in 0..=n {
+                    if ![i, j, k].iter().any(|&x| x == 0 || x == n) {
+                        continue;
+                    }
+                    let w = *pose_b * Vector::new(at(i, hb.x), at(j, hb.y), at(k, hb.z));
+                    best = best.min((w - w.clamp(-ha, ha)).length());
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn two_boxes_are_measured_at_their_closest_points_not_their_best_separating_axis() {
+        // Two links of the TX-90 met in the replay (link_2's box and link_4's second box,
+        // relative pose as posed): parry3d's `query::distance` says 0.15692 m here.
+        let a = Cuboid::new(Vector::new(0.126, 0.07075, 0.3245));
+        let b = Cuboid::new(Vector::new(0.059, 0.087, 0.05));
+        let rot = parry3d_f64::math::Rotation::from_xyzw(
+            0.11217714232785986,
+            0.5533872166040867,
+            0.16396887429543613,
+            0.8088838516750251,
+        );
+        let pose_b = PPose::from_parts(Vector::new(0.32187488337273096, -0.1818124384500124, 0.36468525707745253), rot);
+        let d = shape_distance(&PPose::IDENTITY, &a, &pose_b, &b).expect("boxes are measured");
+        let sampled = sampled_distance(&a, &pose_b, &b, 60);
+        // The sampled points lie on `b`, so the distance is at most theirs; the grid's
+        // spacing (b's longest edge / 60 = 2.9 mm) bounds how much nearer it can be.
+        assert!(d <= sampled + 1e-9, "{d} > sampled {sampled}");
+        assert!(sampled - d < 2.9e-3, "{d} far below sampled {sampled}");
+        assert!((d - 0.149831).abs() < 1e-5, "{d}");
     }
 }

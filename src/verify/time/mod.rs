@@ -19,6 +19,7 @@
 //!
 //! [`JointReach`]: crate::world::JointReach
 
+mod advance;
 mod events;
 pub mod from_schedule;
 pub mod hermite;

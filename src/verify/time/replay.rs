@@ -1,6 +1,7 @@
 //! The sampling loop: instants chosen so that nothing moves more than the bound
 //! between two of them, and the whole cell checked at each.
 
+use super::advance::Memory;
 use super::events::Marks;
 use super::scene::{Cell, Finding, RobotAt, Scratch};
 use super::track::{peak_speeds, segment_at, state_at};
@@ -14,6 +15,10 @@ use crate::world::{Held, ObjectSet, World};
 /// A robot at one instant as far as its own checks go: configuration, object held,
 /// object it may touch.
 type Stance = (Vec<f64>, Option<ObjectId>, Option<ObjectId>);
+
+/// Per robot, per joint: how fast it moves any point on the stretch, and how far it has
+/// moved one since the start (see `Cell::free_time`).
+type Motion<'a> = (&'a [Vec<f64>], &'a [Vec<f64>]);
 
 pub(super) fn run(
     world: &World,
@@ -38,10 +43,12 @@ pub(super) fn run(
     let mut last: Vec<Option<Stance>> = vec![None; tracks.len()];
     let mut last_present = usize::MAX;
     let mut still = vec![false; tracks.len()];
-    // Returns how long from `t` nothing can come too close (see `Cell::free_time`).
+    let mut memory = Memory::default();
+    // Returns how long from `t` nothing can come too close (see `Cell::free_time`), given
+    // each joint's rate and odometer; without them, only checks.
     // `closing`: one robot (by track) holding what it holds with its fingers in another
     // posture, on their way between open and closed.
-    let mut sample = |t: f64, rates: &[Vec<f64>], samples: &mut u64, closing: Option<(usize, &Held)>| -> f64 {
+    let mut sample = |t: f64, motion: Option<Motion>, samples: &mut u64, closing: Option<(usize, &Held)>| -> f64 {
         *samples += 1;
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
             state_at(tr, t, q, qd);
@@ -83,9 +90,15 @@ pub(super) fn run(
                 reported.push((t, f));
             }
         }
-        cell.free_time(&at, &present, rates, &scratch)
+        match motion {
+            Some((rates, odometers)) => cell.free_time(&at, &present, rates, odometers, &scratch, &mut memory),
+            None => 0.0,
+        }
     };
-    let mut rates = vec![Vec::new(); tracks.len()];
+    let mut rates: Vec<Vec<f64>> = vec![Vec::new(); tracks.len()];
+    // Per robot, per joint: the integral of its rate up to the stretch's start.
+    let mut travelled: Vec<Vec<f64>> = reach.iter().map(|r| vec![0.0; r.len()]).collect();
+    let mut odometers = travelled.clone();
     for w in times.windows(2) {
         let (ta, tb) = (w[0], w[1]);
         // How fast each joint of each robot moves any point it moves on this stretch, and
@@ -102,12 +115,23 @@ pub(super) fn run(
         let step = (tb - ta) / n as f64;
         let mut i = 0u64;
         while i < n {
-            let free = sample(ta + step * i as f64, &rates, &mut samples, None);
+            let t = ta + step * i as f64;
+            for ((o, base), rate) in odometers.iter_mut().zip(&travelled).zip(&rates) {
+                for ((o, b), v) in o.iter_mut().zip(base).zip(rate) {
+                    *o = b + v * (t - ta);
+                }
+            }
+            let free = sample(t, Some((&rates, &odometers)), &mut samples, None);
             let ahead = if opts.every_step { 1 } else { (free / step).floor() as u64 };
             i += ahead.clamp(1, n - i);
         }
+        for (base, rate) in travelled.iter_mut().zip(&rates) {
+            for (b, v) in base.iter_mut().zip(rate) {
+                *b += v * (tb - ta);
+            }
+        }
     }
-    sample(tl.makespan, &rates, &mut samples, None);
+    sample(tl.makespan, None, &mut samples, None);
     // The fingers close on each object at its grasp and open at its release: each posture
     // on the way, with everything else as it is at that instant.
     for c in &marks.carries {
@@ -115,7 +139,7 @@ pub(super) fn run(
         for t in [c.grasp, c.release].into_iter().filter(|t| t.is_finite() && *t <= tl.makespan) {
             for &posture in world.closing(c.robot, c.held.posture) {
                 let held = Held { posture, ..c.held.clone() };
-                sample(t, &rates, &mut samples, Some((ti, &held)));
+                sample(t, None, &mut samples, Some((ti, &held)));
             }
         }
     }

@@ -11,7 +11,7 @@ use parry3d_f64::shape::Shape;
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{
-    aabb_gap, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
+    shape_distance, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
 };
 
 /// One robot at the instant.
@@ -25,29 +25,29 @@ pub(super) struct RobotAt<'a> {
 /// Two things too close: overlapping (`None`) or nearer than the clearance.
 pub(super) type Finding = (Party, Obstacle, Option<f64>);
 
-struct RobotGeo {
+pub(super) struct RobotGeo {
     name: String,
-    bodies: Vec<BodyInfo>,
-    self_pairs: Vec<(usize, usize)>,
+    pub bodies: Vec<BodyInfo>,
+    pub self_pairs: Vec<(usize, usize)>,
     /// Per body, then for the flange (and what it carries): the joints that move it.
-    body_joints: Vec<Vec<bool>>,
-    flange_joints: Vec<bool>,
+    pub body_joints: Vec<Vec<bool>>,
+    pub flange_joints: Vec<bool>,
 }
 
 /// What stays the same across instants.
 pub(super) struct Cell<'w> {
     world: &'w World,
-    statics: Vec<StaticShape>,
+    pub statics: Vec<StaticShape>,
     bvh: Bvh,
-    robots: Vec<RobotGeo>,
-    clearance: f64,
+    pub robots: Vec<RobotGeo>,
+    pub clearance: f64,
 }
 
 /// Reused buffers: posed robots and carried objects.
 #[derive(Default)]
 pub(super) struct Scratch {
-    posed: Vec<Vec<PosedShape>>,
-    held: Vec<Vec<HeldPart>>,
+    pub posed: Vec<Vec<PosedShape>>,
+    pub held: Vec<Vec<HeldPart>>,
 }
 
 impl<'w> Cell<'w> {
@@ -178,84 +178,6 @@ impl<'w> Cell<'w> {
         }
     }
 
-    /// How long from the instant last checked (posed in `s`) nothing can come closer than
-    /// the checks allow. `rates[r][j]`: how fast joint `j` of robot `r` can move any point
-    /// it moves (its reach times its peak speed on the stretch), so that a robot's points
-    /// move at most the sum of its rates, and two of its own bodies apart at most the sum
-    /// over the joints that move one and not the other. Every pair the checks look at is
-    /// at least its boxes' gap apart; that gap, less the clearance the pair must keep,
-    /// shrinks no faster than the pair moves apart. 0 when a pair is already too close;
-    /// infinite when nothing moves.
-    pub fn free_time(&self, at: &[RobotAt], present: &ObjectSet, rates: &[Vec<f64>], s: &Scratch) -> f64 {
-        let c = self.clearance;
-        let mut free = f64::INFINITY;
-        // A pair's boxes' gap first; its exact distance only where the gap would shorten
-        // the time found so far (a pair parry cannot measure keeps its gap).
-        let mut keep = |a: Side, b: Side, must: f64, speed: f64| {
-            if speed <= 0.0 || free == 0.0 {
-                return;
-            }
-            let gap = aabb_gap(a.aabb, b.aabb);
-            if (gap - must) / speed >= free {
-                return;
-            }
-            let d = query::distance(a.pose, a.shape, b.pose, b.shape).map_or(gap, |d| d.distance.max(gap));
-            free = free.min(((d - must) / speed).max(0.0));
-        };
-        let speed_of = |r: usize| rates.get(r).map_or(0.0, |v| v.iter().sum::<f64>());
-        let apart = |r: usize, a: &[bool], b: &[bool]| {
-            let v = rates.get(r).map_or(&[][..], Vec::as_slice);
-            a.iter().zip(b).zip(v).filter(|((x, y), _)| x != y).map(|(_, v)| v).sum::<f64>()
-        };
-        for (ri, ra) in at.iter().enumerate() {
-            let (g, v) = (&self.robots[ri], speed_of(ri));
-            let (posed, held) = (&s.posed[ri], &s.held[ri]);
-            let checked = |e: &&StaticShape, carried: bool| match e.owner {
-                StaticOwner::Fixed(_) => true,
-                StaticOwner::Object(o) => {
-                    present.contains(o) && ra.held.is_none_or(|h| h.object != o) && (carried || Some(o) != ra.exempt)
-                }
-            };
-            for e in self.statics.iter().filter(|e| checked(e, false)) {
-                for ps in posed.iter().filter(|ps| g.bodies[ps.body].moving) {
-                    keep(Side::of(ps), Side::fixed(e), c, v);
-                }
-            }
-            for e in self.statics.iter().filter(|e| checked(e, true)) {
-                for part in held {
-                    keep(Side::held(part), Side::fixed(e), 0.0, v);
-                }
-            }
-            for &(a, b) in &g.self_pairs {
-                let rel = apart(ri, &g.body_joints[a], &g.body_joints[b]);
-                for x in posed.iter().filter(|x| x.body == a) {
-                    for y in posed.iter().filter(|y| y.body == b) {
-                        keep(Side::of(x), Side::of(y), 0.0, rel);
-                    }
-                }
-            }
-            for part in held {
-                for ps in posed.iter().filter(|ps| !g.bodies[ps.body].holds) {
-                    let rel = apart(ri, &g.flange_joints, &g.body_joints[ps.body]);
-                    keep(Side::held(part), Side::of(ps), 0.0, rel);
-                }
-            }
-            for rj in ri + 1..at.len() {
-                let (gj, vj) = (&self.robots[rj], speed_of(rj));
-                let mine = posed.iter().map(|x| (Side::of(x), g.bodies[x.body].moving));
-                for (xa, xm) in mine.chain(held.iter().map(|p| (Side::held(p), true))) {
-                    let theirs = s.posed[rj].iter().map(|y| (Side::of(y), gj.bodies[y.body].moving));
-                    for (ya, ym) in theirs.chain(s.held[rj].iter().map(|p| (Side::held(p), true))) {
-                        if xm || ym {
-                            keep(xa, ya, c, v + vj);
-                        }
-                    }
-                }
-            }
-        }
-        free
-    }
-
     /// The first static shape (not skipped) too close to a moving one.
     fn against_statics(
         &self,
@@ -286,21 +208,21 @@ impl<'w> Cell<'w> {
 
 /// One shape of a pair: posed, with its eroded form when it is a primitive.
 #[derive(Clone, Copy)]
-struct Side<'a> {
-    pose: &'a PPose,
-    shape: &'a dyn Shape,
+pub(super) struct Side<'a> {
+    pub pose: &'a PPose,
+    pub shape: &'a dyn Shape,
     eroded: Option<&'a dyn Shape>,
-    aabb: &'a Aabb,
+    pub aabb: &'a Aabb,
 }
 
 impl<'a> Side<'a> {
-    fn of(p: &'a PosedShape) -> Side<'a> {
+    pub fn of(p: &'a PosedShape) -> Side<'a> {
         Side { pose: &p.pose, shape: &*p.shape.0, eroded: p.eroded.as_ref().map(|e| &*e.0), aabb: &p.aabb }
     }
-    fn fixed(e: &'a StaticShape) -> Side<'a> {
+    pub fn fixed(e: &'a StaticShape) -> Side<'a> {
         Side { pose: &e.pose, shape: &*e.shape.0, eroded: None, aabb: &e.aabb }
     }
-    fn held(p: &'a HeldPart) -> Side<'a> {
+    pub fn held(p: &'a HeldPart) -> Side<'a> {
         Side { pose: &p.pose, shape: &*p.shape.0, eroded: p.eroded.as_ref().map(|e| &*e.0), aabb: &p.aabb }
     }
 }
@@ -321,7 +243,7 @@ fn near(a: Side, b: Side, clearance: f64) -> Option<Option<f64>> {
     }
     if clearance > 0.0 {
         // A pair parry cannot measure counts as touching: never pass what was not checked.
-        let d = query::distance(a.pose, a.shape, b.pose, b.shape).map_or(0.0, |d| d.distance);
+        let d = shape_distance(a.pose, a.shape, b.pose, b.shape).unwrap_or(0.0);
         return (d < clearance).then_some(Some(d));
     }
     let touching = match (a.eroded, b.eroded) {
