@@ -10,30 +10,51 @@
 
 use super::scene::{Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
-use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner, StaticShape};
+use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
 /// are in place. The pairs (and their order) are the same while this is.
 type PairSet = (Vec<(Option<(ObjectId, usize)>, Option<ObjectId>)>, usize);
 
-/// What each pair measured last, by its place in the order pairs are listed.
+/// One side of a pair: a robot's shape or carried part (robot, index), or a static shape.
+#[derive(Clone, Copy)]
+enum Thing {
+    Posed(usize, usize),
+    Held(usize, usize),
+    Static(usize),
+}
+
+/// Whose joints move a pair's sides apart.
+enum Movers {
+    /// Every joint of the robot (against the scene).
+    Robot(usize),
+    /// The robot's joints marked (two of its own bodies, or its flange and a body).
+    Apart(usize, Vec<bool>),
+    /// Every joint of both robots.
+    Robots(usize, usize),
+}
+
+/// One pair: its sides, the distance it must keep, and the index of its movers.
+struct Pair {
+    a: Thing,
+    b: Thing,
+    must: f64,
+    movers: usize,
+}
+
+/// The pairs of the current [`PairSet`] and what each measured last.
 #[derive(Default)]
 pub(super) struct Memory {
     set: Option<PairSet>,
-    /// Slack (metres) and the pair's odometer at the measure.
+    pairs: Vec<Pair>,
+    movers: Vec<Movers>,
+    /// Per pair: slack (metres) and its movers' odometer at the measure.
     measured: Vec<Option<(f64, f64)>>,
-    /// Per pair this instant: (lower bound on its free time, index).
-    order: Vec<(f64, usize)>,
-}
-
-/// One pair this instant: both sides, the distance it must keep, how fast its sides can
-/// close in, and its odometer.
-struct Pair<'a> {
-    a: Side<'a>,
-    b: Side<'a>,
-    must: f64,
-    speed: f64,
-    odometer: f64,
+    /// Per movers this instant: how fast they can close a pair in, and their odometer.
+    speed: Vec<f64>,
+    odometer: Vec<f64>,
+    /// Per pair this instant: a lower bound on its free time.
+    bound: Vec<f64>,
 }
 
 impl Cell<'_> {
@@ -54,47 +75,77 @@ impl Cell<'_> {
         s: &Scratch,
         memory: &mut Memory,
     ) -> f64 {
-        let pairs = self.pairs(at, present, rates, odometers, s, memory.measured.len());
         let set: PairSet =
             (at.iter().map(|ra| (ra.held.map(|h| (h.object, h.posture)), ra.exempt)).collect(), present.len());
-        if memory.set.as_ref() != Some(&set) || memory.measured.len() != pairs.len() {
+        if memory.set.as_ref() != Some(&set) {
             memory.set = Some(set);
-            memory.measured.clear();
-            memory.measured.resize(pairs.len(), None);
+            self.list_pairs(at, present, s, memory);
         }
-        // Each pair's bound: the better of its boxes' gap now and its last slack less the
-        // odometer since. No pair's free time is below its bound.
-        memory.order.clear();
+        let total = |v: &[Vec<f64>], r: usize| v.get(r).map_or(0.0, |v| v.iter().sum::<f64>());
+        let marked = |v: &[Vec<f64>], r: usize, mask: &[bool]| {
+            let v = v.get(r).map_or(&[][..], Vec::as_slice);
+            mask.iter().zip(v).filter(|(m, _)| **m).map(|(_, v)| v).sum::<f64>()
+        };
+        memory.speed.clear();
+        memory.odometer.clear();
+        for m in &memory.movers {
+            let of = |v: &[Vec<f64>]| match m {
+                Movers::Robot(r) => total(v, *r),
+                Movers::Apart(r, mask) => marked(v, *r, mask),
+                Movers::Robots(a, b) => total(v, *a) + total(v, *b),
+            };
+            memory.speed.push(of(rates));
+            memory.odometer.push(of(odometers));
+        }
+        let side = |t: Thing| match t {
+            Thing::Posed(r, i) => Side::of(&s.posed[r][i]),
+            Thing::Held(r, i) => Side::held(&s.held[r][i]),
+            Thing::Static(e) => Side::fixed(&self.statics[e]),
+        };
+        let aabb = |t: Thing| match t {
+            Thing::Posed(r, i) => &s.posed[r][i].aabb,
+            Thing::Held(r, i) => &s.held[r][i].aabb,
+            Thing::Static(e) => &self.statics[e].aabb,
+        };
+        // Each pair's bound: its last slack less the odometer since, or its boxes' gap
+        // when it has none (both are no more than its free time).
+        memory.bound.clear();
         let mut least = (f64::INFINITY, usize::MAX);
-        for (k, p) in pairs.iter().enumerate() {
-            if p.speed <= 0.0 {
-                continue;
-            }
-            let mut slack = aabb_gap(p.a.aabb, p.b.aabb) - p.must;
-            if let Some((then, odometer)) = memory.measured[k] {
-                slack = slack.max(then - (p.odometer - odometer));
-            }
-            let bound = slack / p.speed;
+        for (k, p) in memory.pairs.iter().enumerate() {
+            let speed = memory.speed[p.movers];
+            let bound = if speed <= 0.0 {
+                f64::INFINITY
+            } else if let Some((then, odometer)) = memory.measured[k] {
+                (then - (memory.odometer[p.movers] - odometer)) / speed
+            } else {
+                (aabb_gap(aabb(p.a), aabb(p.b)) - p.must) / speed
+            };
             if bound < least.0 {
                 least = (bound, k);
             }
-            memory.order.push((bound, k));
+            memory.bound.push(bound);
         }
         // The pair of least bound measured first, then every pair whose bound is below the
-        // least free time found.
+        // least free time found, unless its boxes' gap now says it cannot be.
         let mut free = f64::INFINITY;
+        let (pairs, speeds, odometer) = (&memory.pairs, &memory.speed, &memory.odometer);
+        let measured = &mut memory.measured;
         let mut measure = |k: usize, free: &mut f64| {
             let p = &pairs[k];
-            let gap = aabb_gap(p.a.aabb, p.b.aabb);
+            let (a, b) = (side(p.a), side(p.b));
+            let gap = aabb_gap(a.aabb, b.aabb);
+            if (gap - p.must) / speeds[p.movers] >= *free {
+                return;
+            }
             // A pair parry cannot measure keeps its gap.
-            let d = shape_distance(p.a.pose, p.a.shape, p.b.pose, p.b.shape).map_or(gap, |d| d.max(gap));
-            memory.measured[k] = Some((d - p.must, p.odometer));
-            *free = free.min(((d - p.must) / p.speed).max(0.0));
+            let d = shape_distance(a.pose, a.shape, b.pose, b.shape).map_or(gap, |d| d.max(gap));
+            measured[k] = Some((d - p.must, odometer[p.movers]));
+            *free = free.min(((d - p.must) / speeds[p.movers]).max(0.0));
         };
         if least.1 != usize::MAX {
             measure(least.1, &mut free);
         }
-        for &(bound, k) in &memory.order {
+        for (k, &bound) in memory.bound.iter().enumerate() {
             if free == 0.0 {
                 break;
             }
@@ -106,75 +157,67 @@ impl Cell<'_> {
     }
 
     /// Every pair the checks look at, in an order fixed by who holds what and which
-    /// objects are in place.
-    fn pairs<'s>(
-        &'s self,
-        at: &[RobotAt],
-        present: &ObjectSet,
-        rates: &[Vec<f64>],
-        odometers: &[Vec<f64>],
-        s: &'s Scratch,
-        hint: usize,
-    ) -> Vec<Pair<'s>> {
+    /// objects are in place; nothing measured yet.
+    fn list_pairs(&self, at: &[RobotAt], present: &ObjectSet, s: &Scratch, memory: &mut Memory) {
         let c = self.clearance;
-        let mut out = Vec::with_capacity(hint);
-        let sum = |v: &[Vec<f64>], r: usize| v.get(r).map_or(0.0, |v| v.iter().sum::<f64>());
-        // Over the joints that move one of two bodies of robot `r` and not the other.
-        let apart = |v: &[Vec<f64>], r: usize, a: &[bool], b: &[bool]| {
-            let v = v.get(r).map_or(&[][..], Vec::as_slice);
-            a.iter().zip(b).zip(v).filter(|((x, y), _)| x != y).map(|(_, v)| v).sum::<f64>()
+        let (pairs, movers) = (&mut memory.pairs, &mut memory.movers);
+        pairs.clear();
+        movers.clear();
+        let mut group = |m: Movers| {
+            movers.push(m);
+            movers.len() - 1
         };
         for (ri, ra) in at.iter().enumerate() {
             let g = &self.robots[ri];
-            let (speed, odometer) = (sum(rates, ri), sum(odometers, ri));
             let (posed, held) = (&s.posed[ri], &s.held[ri]);
-            let checked = |e: &&StaticShape, carried: bool| match e.owner {
+            let checked = |owner: StaticOwner, carried: bool| match owner {
                 StaticOwner::Fixed(_) => true,
                 StaticOwner::Object(o) => {
                     present.contains(o) && ra.held.is_none_or(|h| h.object != o) && (carried || Some(o) != ra.exempt)
                 }
             };
-            for e in self.statics.iter().filter(|e| checked(e, false)) {
-                for ps in posed.iter().filter(|ps| g.bodies[ps.body].moving) {
-                    out.push(Pair { a: Side::of(ps), b: Side::fixed(e), must: c, speed, odometer });
+            let whole = group(Movers::Robot(ri));
+            for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, false)) {
+                for (i, _) in posed.iter().enumerate().filter(|(_, ps)| g.bodies[ps.body].moving) {
+                    pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Static(e), must: c, movers: whole });
                 }
             }
-            for e in self.statics.iter().filter(|e| checked(e, true)) {
-                for part in held {
-                    out.push(Pair { a: Side::held(part), b: Side::fixed(e), must: 0.0, speed, odometer });
+            for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, true)) {
+                for i in 0..held.len() {
+                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Static(e), must: 0.0, movers: whole });
                 }
             }
+            let apart = |x: &[bool], y: &[bool]| x.iter().zip(y).map(|(x, y)| x != y).collect::<Vec<bool>>();
             for &(a, b) in &g.self_pairs {
-                let (ja, jb) = (&g.body_joints[a], &g.body_joints[b]);
-                let (speed, odometer) = (apart(rates, ri, ja, jb), apart(odometers, ri, ja, jb));
-                for x in posed.iter().filter(|x| x.body == a) {
-                    for y in posed.iter().filter(|y| y.body == b) {
-                        out.push(Pair { a: Side::of(x), b: Side::of(y), must: 0.0, speed, odometer });
+                let m = group(Movers::Apart(ri, apart(&g.body_joints[a], &g.body_joints[b])));
+                for (i, _) in posed.iter().enumerate().filter(|(_, x)| x.body == a) {
+                    for (k, _) in posed.iter().enumerate().filter(|(_, y)| y.body == b) {
+                        pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Posed(ri, k), must: 0.0, movers: m });
                     }
                 }
             }
-            for part in held {
-                for ps in posed.iter().filter(|ps| !g.bodies[ps.body].holds) {
-                    let (jf, jb) = (&g.flange_joints, &g.body_joints[ps.body]);
-                    let (speed, odometer) = (apart(rates, ri, jf, jb), apart(odometers, ri, jf, jb));
-                    out.push(Pair { a: Side::held(part), b: Side::of(ps), must: 0.0, speed, odometer });
+            for i in 0..held.len() {
+                for (k, ps) in posed.iter().enumerate().filter(|(_, ps)| !g.bodies[ps.body].holds) {
+                    let m = group(Movers::Apart(ri, apart(&g.flange_joints, &g.body_joints[ps.body])));
+                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Posed(ri, k), must: 0.0, movers: m });
                 }
             }
             for rj in ri + 1..at.len() {
                 let gj = &self.robots[rj];
-                let speed = speed + sum(rates, rj);
-                let odometer = odometer + sum(odometers, rj);
-                let mine = posed.iter().map(|x| (Side::of(x), g.bodies[x.body].moving));
-                for (xa, xm) in mine.chain(held.iter().map(|p| (Side::held(p), true))) {
-                    let theirs = s.posed[rj].iter().map(|y| (Side::of(y), gj.bodies[y.body].moving));
-                    for (ya, ym) in theirs.chain(s.held[rj].iter().map(|p| (Side::held(p), true))) {
+                let both = group(Movers::Robots(ri, rj));
+                let mine = (0..posed.len()).map(|i| (Thing::Posed(ri, i), g.bodies[posed[i].body].moving));
+                for (x, xm) in mine.chain((0..held.len()).map(|i| (Thing::Held(ri, i), true))) {
+                    let theirs =
+                        (0..s.posed[rj].len()).map(|k| (Thing::Posed(rj, k), gj.bodies[s.posed[rj][k].body].moving));
+                    for (y, ym) in theirs.chain((0..s.held[rj].len()).map(|k| (Thing::Held(rj, k), true))) {
                         if xm || ym {
-                            out.push(Pair { a: xa, b: ya, must: c, speed, odometer });
+                            pairs.push(Pair { a: x, b: y, must: c, movers: both });
                         }
                     }
                 }
             }
         }
-        out
+        memory.measured.clear();
+        memory.measured.resize(memory.pairs.len(), None);
     }
 }

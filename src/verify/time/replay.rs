@@ -45,10 +45,16 @@ pub(super) fn run(
     let mut still = vec![false; tracks.len()];
     let mut memory = Memory::default();
     // Returns how long from `t` nothing can come too close (see `Cell::free_time`), given
-    // each joint's rate and odometer; without them, only checks.
-    // `closing`: one robot (by track) holding what it holds with its fingers in another
-    // posture, on their way between open and closed.
-    let mut sample = |t: f64, motion: Option<Motion>, samples: &mut u64, closing: Option<(usize, &Held)>| -> f64 {
+    // each joint's rate and odometer; without them, only checks. `clear`: an earlier
+    // instant of the stretch has already proved nothing too close at `t`, so the contact
+    // checks are skipped. `closing`: one robot (by track) holding what it holds with its
+    // fingers in another posture, on their way between open and closed.
+    let mut sample = |t: f64,
+                      motion: Option<Motion>,
+                      clear: bool,
+                      samples: &mut u64,
+                      closing: Option<(usize, &Held)>|
+     -> f64 {
         *samples += 1;
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
             state_at(tr, t, q, qd);
@@ -84,7 +90,10 @@ pub(super) fn run(
         }
         last_present = in_place;
         found.clear();
-        cell.check(&at, &present, &still, &mut scratch, &mut found);
+        cell.pose(&at, &mut scratch);
+        if !clear {
+            cell.check(&at, &present, &still, &scratch, &mut found);
+        }
         for f in found.drain(..) {
             if !reported.iter().any(|(_, r)| r.0 == f.0 && r.1 == f.1) {
                 reported.push((t, f));
@@ -114,6 +123,8 @@ pub(super) fn run(
         let n = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
         let step = (tb - ta) / n as f64;
         let mut i = 0u64;
+        // Nothing can be too close up to this instant, as the last one proved.
+        let mut clear_until = f64::NEG_INFINITY;
         while i < n {
             let t = ta + step * i as f64;
             for ((o, base), rate) in odometers.iter_mut().zip(&travelled).zip(&rates) {
@@ -121,7 +132,8 @@ pub(super) fn run(
                     *o = b + v * (t - ta);
                 }
             }
-            let free = sample(t, Some((&rates, &odometers)), &mut samples, None);
+            let free = sample(t, Some((&rates, &odometers)), !opts.every_step && t <= clear_until, &mut samples, None);
+            clear_until = t + free;
             let ahead = if opts.every_step { 1 } else { (free / step).floor() as u64 };
             i += ahead.clamp(1, n - i);
         }
@@ -131,7 +143,7 @@ pub(super) fn run(
             }
         }
     }
-    sample(tl.makespan, None, &mut samples, None);
+    sample(tl.makespan, None, false, &mut samples, None);
     // The fingers close on each object at its grasp and open at its release: each posture
     // on the way, with everything else as it is at that instant.
     for c in &marks.carries {
@@ -139,7 +151,7 @@ pub(super) fn run(
         for t in [c.grasp, c.release].into_iter().filter(|t| t.is_finite() && *t <= tl.makespan) {
             for &posture in world.closing(c.robot, c.held.posture) {
                 let held = Held { posture, ..c.held.clone() };
-                sample(t, None, &mut samples, Some((ti, &held)));
+                sample(t, None, false, &mut samples, Some((ti, &held)));
             }
         }
     }

@@ -71,26 +71,25 @@ impl<'w> Cell<'w> {
         Cell { world, statics, bvh, robots, clearance }
     }
 
-    /// Everything too close at this instant. `present`: objects in place. `still[r]`:
-    /// robot `r` stands, holds and may touch exactly as at the previous instant checked,
-    /// and no object has appeared since; its checks against the scene and itself would
-    /// find what they found then, so they are skipped (as is a pair of two such robots).
-    pub fn check(
-        &self,
-        at: &[RobotAt],
-        present: &ObjectSet,
-        still: &[bool],
-        s: &mut Scratch,
-        found: &mut Vec<Finding>,
-    ) {
+    /// Every robot's shapes and what it carries, posed at this instant.
+    pub fn pose(&self, at: &[RobotAt], s: &mut Scratch) {
         let w = self.world;
-        let c = self.clearance;
         s.posed.resize_with(at.len(), Vec::new);
         s.held.resize_with(at.len(), Vec::new);
         for (ri, ra) in at.iter().enumerate() {
             let flange = w.pose_shapes(RobotId(ri as u32), ra.q, ra.held, &mut s.posed[ri]);
             s.held[ri] = ra.held.map(|h| w.pose_held(h, &flange)).unwrap_or_default();
         }
+    }
+
+    /// Everything too close at this instant, posed in `s` by [`Cell::pose`]. `present`:
+    /// objects in place. `still[r]`: robot `r` stands, holds and may touch exactly as at
+    /// the previous instant sampled,
+    /// and no object has appeared since; its checks against the scene and itself would
+    /// find what they found then, so they are skipped (as is a pair of two such robots).
+    pub fn check(&self, at: &[RobotAt], present: &ObjectSet, still: &[bool], s: &Scratch, found: &mut Vec<Finding>) {
+        let w = self.world;
+        let c = self.clearance;
         for (ri, ra) in at.iter().enumerate() {
             let g = &self.robots[ri];
             let body = |b: usize| Party::Body { robot: g.name.clone(), body: g.bodies[b].name.clone() };
