@@ -252,6 +252,22 @@ fn cycle_is_infeasible() {
 }
 
 #[test]
+fn a_removal_only_the_roadmap_asked_for_proves_nothing() {
+    // One robot; the target `o0` needs `o1` removed, and nothing can grasp `o1`. When the
+    // grasps of `o0` themselves touch `o1` that is a proof; when only the roadmap's path
+    // does, a bigger roadmap may find a way around `o1`.
+    let (scn, sources) = scenario(1, 2, Some(0), 0);
+    let forced = Table::new().path(1, 0, &[1]).null(1, 1, Unreachable::NoGraspSolution);
+    let sol = solve(&scn, &forced);
+    assert!(sol.outcome.as_ref().unwrap_err().is_proof());
+    let roadmap = Table::new().roadmap_path(1, 0, &[1]).null(1, 1, Unreachable::NoGraspSolution);
+    let sol = solve(&scn, &roadmap);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert!(!err.is_proof());
+    insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
+}
+
+#[test]
 fn object_no_robot_can_grasp() {
     let (scn, sources) = scenario(2, 2, Some(0), 0);
     let self_hit = Blocker::SelfCollision { link_a: "l1".into(), link_b: "l3".into() };
@@ -263,11 +279,18 @@ fn object_no_robot_can_grasp() {
     let sol = solve(&scn, &t);
     assert_eq!(nodes(&scn, &sol), ["o0 r1:B r2:N", "o1 r1:N r2:N <-o0/r1"]);
     let err = sol.outcome.as_ref().unwrap_err();
-    assert!(err.is_proof());
+    // `r2` gave up on `o0` within its budget: with a bigger one it might grasp it, so
+    // `o1` being ungraspable proves nothing about the target.
+    assert!(!err.is_proof());
+    let Cause::Unproved { what, reasons, .. } = &err.causes[0] else { panic!("{:?}", err.causes[0]) };
+    assert_eq!(
+        (what.as_str(), reasons.as_slice()),
+        ("to grasp `o0`", &["`r2` gave up within its budget".to_string()][..])
+    );
     let r2_text = "its grasps are reachable, but every approach or retreat carrying it is blocked: links `l1` and \
                    `l3` collide";
     assert_eq!(
-        err.causes,
+        err.causes[1..],
         [Cause::Ungraspable {
             object: declutter::resolve::ObjectId(1),
             name: "o1".into(),
@@ -290,8 +313,9 @@ fn object_no_robot_can_grasp() {
     assert_eq!(
         err.reason(),
         format!(
-            "`o0` cannot be reached: no robot can grasp `o1` (`r1`: no grasp has an inverse-kinematics solution \
-             clear of fixed bodies; `r2`: {r2_text})"
+            "no way to `o0` was found within the planning budget: nothing proves there is no way to grasp `o0`: \
+             `r2` gave up within its budget; no robot can grasp `o1` (`r1`: no grasp has an inverse-kinematics \
+             solution clear of fixed bodies; `r2`: {r2_text})"
         )
     );
     insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));

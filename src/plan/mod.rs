@@ -94,6 +94,11 @@ pub struct FoundPath {
     pub retreat: JointPath,
     /// Objects that must be removed first for the whole motion to be collision-free.
     pub removals: ObjectSet,
+    /// The removals every path of the query needs, whatever the roadmap: those of the
+    /// goal itself (for an object, of every usable grasp's pre-grasp and straight move
+    /// in and out). The rest of `removals` come from the roadmap, and a bigger budget
+    /// may find a way around them.
+    pub forced: ObjectSet,
 }
 
 /// Per-query figures, as in the paper's Table 1.

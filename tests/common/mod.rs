@@ -102,6 +102,8 @@ type Key = (u32, Option<u32>);
 #[derive(Default)]
 pub struct Table {
     rows: BTreeMap<Key, Result<Vec<u32>, Unreachable>>,
+    /// Rows whose removals only the roadmap asked for (none forced).
+    roadmap: Vec<Key>,
     pub asked: RefCell<Vec<(u32, Option<u32>)>>,
 }
 
@@ -113,6 +115,12 @@ impl Table {
     pub fn path(mut self, r: u32, o: u32, so: &[u32]) -> Table {
         self.rows.insert((r - 1, Some(o)), Ok(so.to_vec()));
         self
+    }
+    /// Like [`Table::path`], but only the roadmap asked for the removals: a bigger one
+    /// might find a way around them.
+    pub fn roadmap_path(mut self, r: u32, o: u32, so: &[u32]) -> Table {
+        self.roadmap.push((r - 1, Some(o)));
+        self.path(r, o, so)
     }
     pub fn null(mut self, r: u32, o: u32, why: Unreachable) -> Table {
         self.rows.insert((r - 1, Some(o)), Err(why));
@@ -162,7 +170,13 @@ impl Oracle for Table {
             } else {
                 JointPath(vec![])
             },
-            removals: so.into_iter().map(ObjectId).collect::<ObjectSet>(),
+            removals: so.iter().copied().map(ObjectId).collect::<ObjectSet>(),
+            // A table's removals are facts about the item unless marked as the roadmap's.
+            forced: if self.roadmap.contains(&(robot.0, o)) {
+                ObjectSet::new()
+            } else {
+                so.into_iter().map(ObjectId).collect::<ObjectSet>()
+            },
         });
         Answer { result, stats }
     }

@@ -252,6 +252,35 @@ impl Graph {
         self.g.node_indices().filter(|n| !self.g[*n].is_analysed()).min_by_key(|n| (self.g[*n].cost, *n))
     }
 
+    /// Whether node `n` is a proved dead end: every robot's flag rests on a proof. A
+    /// Null answer is one unless its query ran out of budget. A found path proves a dead
+    /// end only through a removal every path of its query needs ([`FoundPath::forced`]):
+    /// one on the branch above (Discarded: a cycle), or one whose own node is a proved
+    /// dead end (Blocked). A removal the roadmap alone asked for proves nothing: a bigger
+    /// budget may find a way around it.
+    ///
+    /// [`FoundPath::forced`]: crate::plan::FoundPath::forced
+    pub fn proved(&self, n: NodeIndex) -> bool {
+        self.g[n].flags.iter().all(|(r, _)| self.proved_for(n, *r))
+    }
+
+    /// Whether robot `robot`'s part of node `n` is a proved dead end (see [`Graph::proved`]).
+    pub fn proved_for(&self, n: NodeIndex, robot: RobotId) -> bool {
+        let node = &self.g[n];
+        match node.flag(robot) {
+            Some(Flag::Null) => {
+                self.answer(robot, node.item).is_some_and(|a| matches!(&a.result, Err(u) if u.is_proof()))
+            }
+            Some(Flag::Discarded) => self.found(robot, node.item).is_some_and(|p| p.forced.intersects(&node.branch)),
+            Some(Flag::Blocked) => self.found(robot, node.item).is_some_and(|p| {
+                self.children(n, robot)
+                    .into_iter()
+                    .any(|c| self.g[c].item.object().is_some_and(|o| p.forced.contains(o)) && self.proved(c))
+            }),
+            Some(Flag::Free | Flag::Empty) | None => false,
+        }
+    }
+
     /// The blocking cycle behind a Discarded flag: robot `robot` at node `n` needs
     /// `object`, which is on the branch above. Returns each object of the loop from
     /// `object` down to `n`, with the robot whose `SO` for it holds the next object

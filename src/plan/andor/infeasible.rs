@@ -25,6 +25,8 @@ pub struct Infeasible {
     pub target: String,
     pub span: Span,
     pub causes: Vec<Cause>,
+    /// Every dead end the target's failure rests on is proved (see [`Graph::proved`]).
+    pub proved: bool,
 }
 
 impl Diagnostic for Infeasible {
@@ -85,6 +87,22 @@ pub enum Cause {
         #[help]
         advice: String,
     },
+    /// Some robot's failure on the target is no proof: it gave up within its budget, or
+    /// the path it found needs removals that cannot be made but that only its roadmap
+    /// asked for (a path around them may exist beyond the budget).
+    #[error("nothing proves there is no way {what}: {}", reasons.join("; "))]
+    #[diagnostic(code(declutter::plan::not_proved))]
+    Unproved {
+        /// `to grasp `can`` or `for `r1` to the target configuration`.
+        what: String,
+        /// Per robot not proved, why (`r1`'s path needs `o6` removed, ...).
+        reasons: Vec<String>,
+        #[label("{label}")]
+        span: Span,
+        label: String,
+        #[help]
+        advice: String,
+    },
     /// Removing the first object needs the second removed first, and so on, until the
     /// last needs the first: no order can work.
     #[error("{chain}")]
@@ -125,7 +143,7 @@ impl Infeasible {
 
     /// Whether every dead end is proved; false when some branch only ran out of budget.
     pub fn is_proof(&self) -> bool {
-        !self.causes.iter().any(|c| matches!(c, Cause::NotFound { .. }))
+        self.proved && !self.causes.iter().any(|c| matches!(c, Cause::NotFound { .. } | Cause::Unproved { .. }))
     }
 
     fn headline(&self) -> String {
@@ -315,7 +333,66 @@ pub fn explain(scn: &Scenario, graph: &Graph) -> Infeasible {
             }
         }
     }
-    Infeasible { target, span, causes }
+    let proved = graph.proved(graph.root);
+    if !proved && !causes.iter().any(|c| matches!(c, Cause::NotFound { .. })) {
+        causes.insert(0, unproved(scn, graph));
+    }
+    Infeasible { target, span, causes, proved }
+}
+
+/// Why the root's failure is no proof, robot by robot.
+fn unproved(scn: &Scenario, graph: &Graph) -> Cause {
+    let root = graph.node(graph.root);
+    let mut reasons = Vec::new();
+    for (r, flag) in &root.flags {
+        let Some(a) = graph.answer(*r, root.item).filter(|_| !graph.proved_for(graph.root, *r)) else { continue };
+        let robot = &scn.robot(*r).name;
+        match (&a.result, flag) {
+            (Err(u), _) if !u.is_proof() => reasons.push(format!("`{robot}` gave up within its budget")),
+            (Ok(p), Flag::Blocked | Flag::Discarded) => {
+                let names: Vec<String> = p
+                    .removals
+                    .iter()
+                    .filter(|o| !p.forced.contains(*o))
+                    .map(|o| format!("`{}`", scn.object(o).body.name))
+                    .collect();
+                if names.is_empty() {
+                    // Every removal is forced; some object's own failure below is no proof.
+                    reasons.push(format!("`{robot}` needs objects removed that nothing proves impossible to remove"));
+                } else {
+                    let them = if names.len() == 1 { "it" } else { "them" };
+                    reasons.push(format!(
+                        "the path `{robot}` found needs {} removed, which cannot be done, but only its roadmap asked for {them}",
+                        names.join(", ")
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+    let (what, span, label) = match (root.item, &scn.target) {
+        (Item::Object(o), _) => {
+            let name = &scn.object(o).body.name;
+            (format!("to grasp `{name}`"), scn.object(o).body.span, format!("`{name}` is declared here"))
+        }
+        (Item::Config, Target::Config { robot, q, .. }) => (
+            format!("for `{}` to the target configuration", scn.robot(*robot).name),
+            q.span,
+            "this configuration".into(),
+        ),
+        (Item::Config, Target::Object { span, .. }) => ("to the target".into(), *span, "the target".into()),
+    };
+    let max = scn.planner.max_samples;
+    Cause::Unproved {
+        what,
+        reasons,
+        span,
+        label,
+        advice: format!(
+            "a bigger roadmap may find a way: raise `max_samples` in the `planner` block (now {max}; e.g. `max_samples {}`)",
+            max.saturating_mul(4)
+        ),
+    }
 }
 
 fn cycle(scn: &Scenario, chain: &[(ObjectId, RobotId)]) -> Cause {

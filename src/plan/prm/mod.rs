@@ -295,8 +295,21 @@ impl<S: Space> RobotPlanner<S> {
             approach: JointPath(approach),
             retreat: JointPath(retreat),
             removals: cand.set.clone(),
+            forced: forced(goals),
         }
     }
+}
+
+/// What every usable goal's own configurations and straight moves touch: no path of the
+/// query can avoid removing these.
+fn forced(goals: &[GraspGoal]) -> ObjectSet {
+    let mut sets = goals.iter().map(|g| {
+        let mut l = g.pre_set.clone();
+        l.union_with(&g.approach);
+        l
+    });
+    let first = sets.next().unwrap_or_default();
+    sets.fold(first, |acc, l| acc.iter().filter(|o| l.contains(*o)).collect())
 }
 
 fn key(c: &Cand) -> (usize, Len, usize) {
