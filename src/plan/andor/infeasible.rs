@@ -362,7 +362,7 @@ fn unproved(scn: &Scenario, graph: &Graph) -> Cause {
                 } else {
                     let them = if names.len() == 1 { "it" } else { "them" };
                     reasons.push(format!(
-                        "the path `{robot}` found needs {} removed, which cannot be done, but only its roadmap asked for {them}",
+                        "the path `{robot}` found needs {} removed, which the objects' own dead ends below rule out, but only its roadmap asked for {them}",
                         names.join(", ")
                     ));
                 }
