@@ -290,33 +290,21 @@ pub fn explain(scn: &Scenario, graph: &Graph) -> Infeasible {
                 }
                 reasons.push((robot, Reason { why: u.clone(), text: describe_for(scn, u, aim) }));
             }
-            let not_found = |what: String, label: String, span: Span, reasons: Vec<(String, Reason)>| Cause::NotFound {
-                what,
-                reasons,
-                span,
-                label,
-                advice: advice(scn, &gave_up),
-            };
-            match (node.item, &scn.target) {
-                (Item::Object(object), _) => {
-                    let name = scn.object(object).body.name.clone();
-                    let span = scn.object(object).body.span;
-                    causes.push(if gave_up.is_empty() {
-                        Cause::Ungraspable { object, name, reasons, span }
-                    } else {
-                        not_found(format!("to grasp `{name}`"), format!("`{name}` is declared here"), span, reasons)
-                    })
+            match (aim_of(scn, node.item), node.item, &scn.target) {
+                (None, ..) => {}
+                (Some((what, span, label)), ..) if !gave_up.is_empty() => {
+                    causes.push(Cause::NotFound { what, reasons, span, label, advice: advice(scn, &gave_up) })
                 }
-                (Item::Config, Target::Config { robot, q, .. }) => {
-                    let name = scn.robot(*robot).name.clone();
-                    if !gave_up.is_empty() {
-                        let what = format!("for `{name}` to the target configuration");
-                        causes.push(not_found(what, "this configuration".into(), q.span, reasons));
-                    } else if let Some((_, reason)) = reasons.into_iter().next() {
-                        causes.push(Cause::TargetUnreachable { robot: name, reason, span: q.span })
+                (Some((_, span, _)), Item::Object(object), _) => {
+                    let name = scn.object(object).body.name.clone();
+                    causes.push(Cause::Ungraspable { object, name, reasons, span });
+                }
+                (Some((_, span, _)), Item::Config, Target::Config { robot, .. }) => {
+                    if let Some((_, reason)) = reasons.into_iter().next() {
+                        causes.push(Cause::TargetUnreachable { robot: scn.robot(*robot).name.clone(), reason, span })
                     }
                 }
-                (Item::Config, Target::Object { .. }) => {}
+                (Some(_), Item::Config, Target::Object { .. }) => {}
             }
         }
         for (robot, flag) in &node.flags {
@@ -335,13 +323,31 @@ pub fn explain(scn: &Scenario, graph: &Graph) -> Infeasible {
     }
     let proved = graph.proved(graph.root);
     if !proved && !causes.iter().any(|c| matches!(c, Cause::NotFound { .. })) {
-        causes.insert(0, unproved(scn, graph));
+        causes.insert(0, unproved(scn, graph, span));
     }
     Infeasible { target, span, causes, proved }
 }
 
+/// What a node's item is for messages (`to grasp `can`` or `for `r1` to the target
+/// configuration`), where to point and the label there; `None` for the configuration
+/// pseudo-node of an object target.
+fn aim_of(scn: &Scenario, item: Item) -> Option<(String, Span, String)> {
+    match (item, &scn.target) {
+        (Item::Object(o), _) => {
+            let name = &scn.object(o).body.name;
+            Some((format!("to grasp `{name}`"), scn.object(o).body.span, format!("`{name}` is declared here")))
+        }
+        (Item::Config, Target::Config { robot, q, .. }) => Some((
+            format!("for `{}` to the target configuration", scn.robot(*robot).name),
+            q.span,
+            "this configuration".into(),
+        )),
+        (Item::Config, Target::Object { .. }) => None,
+    }
+}
+
 /// Why the root's failure is no proof, robot by robot.
-fn unproved(scn: &Scenario, graph: &Graph) -> Cause {
+fn unproved(scn: &Scenario, graph: &Graph, target: Span) -> Cause {
     let root = graph.node(graph.root);
     let mut reasons = Vec::new();
     for (r, flag) in &root.flags {
@@ -370,18 +376,8 @@ fn unproved(scn: &Scenario, graph: &Graph) -> Cause {
             _ => {}
         }
     }
-    let (what, span, label) = match (root.item, &scn.target) {
-        (Item::Object(o), _) => {
-            let name = &scn.object(o).body.name;
-            (format!("to grasp `{name}`"), scn.object(o).body.span, format!("`{name}` is declared here"))
-        }
-        (Item::Config, Target::Config { robot, q, .. }) => (
-            format!("for `{}` to the target configuration", scn.robot(*robot).name),
-            q.span,
-            "this configuration".into(),
-        ),
-        (Item::Config, Target::Object { span, .. }) => ("to the target".into(), *span, "the target".into()),
-    };
+    let (what, span, label) =
+        aim_of(scn, root.item).unwrap_or_else(|| ("to the target".into(), target, "the target".into()));
     let max = scn.planner.max_samples;
     Cause::Unproved {
         what,
