@@ -12,15 +12,27 @@ use std::path::Path;
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::{RobotId, Target};
 use declutter::schedule::Status;
-use declutter::world::{self, WorldOptions};
+use declutter::world::{self, World, WorldOptions};
 use families::{probe, problem, shared_robots, Arm, FAMILIES};
 
-/// (solved, removals) of one problem, planned and verified as `compile` does.
-fn solve(path: &Path) -> (bool, usize) {
+/// A problem's world and its target configuration.
+fn load(path: &Path) -> (World, Vec<f64>) {
     let mut sources = SourceMap::new();
     let scn = declutter::resolve::resolve(path, &FsLoader, &mut sources).expect("resolves");
     let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-    match declutter::driver::plan_verified(&w, &|_| {}) {
+    let Target::Config { q, .. } = &scn.target else { panic!("{}: a configuration target", path.display()) };
+    let goal = q.values.clone();
+    (w, goal)
+}
+
+/// (solved, removals) of one problem, planned and verified as `compile` does.
+fn solve(path: &Path) -> (bool, usize) {
+    solve_in(&load(path).0, path)
+}
+
+/// [`solve`] on a problem already loaded from `path`.
+fn solve_in(w: &World, path: &Path) -> (bool, usize) {
+    match declutter::driver::plan_verified(w, &|_| {}) {
         Ok(p) => (p.schedule.status == Status::Solved, p.schedule.removed.len()),
         Err(v) => panic!("{}: the schedule failed verification: {v:?}", path.display()),
     }
@@ -95,16 +107,13 @@ fn against_rrt(arm: Arm, n: u64, iterations: usize, dir: &Path) -> Option<Vec<St
         let (mut by_rrt, mut by_us) = (Vec::new(), Vec::new());
         for i in 0..n {
             let Some(p) = problem(arm, &probe, &robots, dir, family, i) else { continue };
-            let mut sources = SourceMap::new();
-            let scn = declutter::resolve::resolve(&p.path, &FsLoader, &mut sources).expect("resolves");
-            let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-            let Target::Config { q, .. } = &scn.target else { panic!("a configuration target") };
+            let (w, goal) = load(&p.path);
             let r = RobotId(0);
-            if let Some(path) = rrt::rrt_connect(&w, r, w.home(r), &q.values, iterations, i) {
+            if let Some(path) = rrt::rrt_connect(&w, r, w.home(r), &goal, iterations, i) {
                 assert!(path.windows(2).all(|s| rrt::motion_free(&w, r, &s[0], &s[1])), "{family} {i}: a free path");
                 by_rrt.push(i);
             }
-            if solve(&p.path).0 {
+            if solve_in(&w, &p.path).0 {
                 by_us.push(i);
             }
         }
@@ -152,16 +161,13 @@ fn whether_the_unsolved_have_a_path() {
     for family in FAMILIES {
         for i in 0..10 {
             let Some(p) = problem(Arm::Tx90, &probe, &robots, &dir, family, i) else { continue };
-            if solve(&p.path).0 {
+            let (w, goal) = load(&p.path);
+            if solve_in(&w, &p.path).0 {
                 continue;
             }
-            let mut sources = SourceMap::new();
-            let scn = declutter::resolve::resolve(&p.path, &FsLoader, &mut sources).expect("resolves");
-            let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-            let Target::Config { q, .. } = &scn.target else { panic!("a configuration target") };
             let r = RobotId(0);
             let found: Vec<u64> =
-                (0..5).filter(|&seed| rrt::rrt_connect(&w, r, w.home(r), &q.values, 100_000, seed).is_some()).collect();
+                (0..5).filter(|&seed| rrt::rrt_connect(&w, r, w.home(r), &goal, 100_000, seed).is_some()).collect();
             println!("{family} {i}: unsolved by declutter; RRT-Connect found a path with seeds {found:?} of 0..5");
         }
     }
