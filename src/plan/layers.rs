@@ -44,11 +44,13 @@ pub(super) struct GoalNode {
     pub(super) tree: Vec<(u32, u32, usize)>,
     /// Rounds the tree has been grown for.
     pub(super) tree_rounds: usize,
+    /// The tree's links to the roadmap: (tree node, roadmap vertex, round found).
+    pub(super) links: Vec<(u32, u32, usize)>,
 }
 
 impl GoalNode {
     pub(super) fn new(q: &[f64]) -> GoalNode {
-        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0 }
+        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0, links: Vec::new() }
     }
 }
 
@@ -100,6 +102,10 @@ impl Rule {
         }
     }
 }
+
+/// The first tree nodes (in growth order) also join the roadmap through their nearest
+/// vertices, like the goal itself; the rest only through their connect links.
+const TREE_LINKED: usize = 32;
 
 /// A layered search graph for one goal at one round, with the key of every element.
 pub(super) struct Built {
@@ -293,10 +299,21 @@ pub(super) fn build(
             extras.extend(tree.iter().map(|t| t.0));
         }
     }
+    // Tree nodes reach the roadmap only through the links their connect steps found.
     let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
+    if trees {
+        for &(x, v, rr) in &s.goals[pre as usize].links {
+            if rr <= r {
+                nbrs.entry(x).or_default().push(v);
+            }
+        }
+    }
+    let in_tree: std::collections::HashSet<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
     for (_, _, extras) in &layers {
         for &x in extras {
-            if let std::collections::hash_map::Entry::Vacant(e) = nbrs.entry(x) {
+            if in_tree.contains(&x) {
+                nbrs.entry(x).or_default();
+            } else if let std::collections::hash_map::Entry::Vacant(e) = nbrs.entry(x) {
                 e.insert(goal_nbrs(s, x, r, k));
             }
         }

@@ -5,18 +5,22 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::super::knn::dist2;
-use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node};
+use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node, State};
 use super::super::roadmap::mix;
 use super::super::space::{Mode, Space};
 use super::RobotPlanner;
 use crate::resolve::ObjectId;
 use crate::world::{Blocker, Check, GraspConfig, ObjectSet};
 
-/// Tree growth per round: the first round's attempts, doubling, capped.
-const TREE_FIRST: usize = 8;
-const TREE_MAX: usize = 128;
+/// Tree growth per round: the first round's attempts, doubling like the roadmap's
+/// samples, shared among the query's goals (at least `TREE_MIN` each).
+const TREE_FIRST: usize = 32;
+const TREE_MIN: usize = 8;
+const TREE_MAX: usize = 1 << 16;
 /// Longest step of a tree extension (radians, Euclidean in joint space).
 const TREE_STEP: f64 = 0.3;
+/// Most steps of one connect march (see `RobotPlanner::connect`).
+const CONNECT_MAX: usize = 64;
 /// The seed stream of the goal trees.
 const TREE_STREAM: u64 = 0x7472_6565;
 
@@ -53,13 +57,15 @@ impl<S: Space> RobotPlanner<S> {
         (id, lab)
     }
 
-    /// Grows the tree of goal node `root` through round `r`: an RRT from the goal whose
-    /// nodes join the search graphs beside it (each also linked to its nearest roadmap
-    /// vertices), so a goal inside a narrow place reaches out of it before the roadmap
-    /// is dense there. Round `rr` adds up to `TREE_FIRST << (rr - 1)` nodes (capped)
-    /// from an RNG seeded by (seed, goal, rr): the tree is a pure function of those,
-    /// whichever query grows it. Checked under the robot's lock, without rayon.
-    pub(super) fn grow_tree(&self, root: u32, r: usize, checks: &mut u64) {
+    /// Grows the tree of goal node `root` through round `r`: an RRT-Connect from the goal
+    /// with the roadmap as its other tree (see [`Self::connect`]). Its nodes join the
+    /// search graphs beside the goal, so a goal inside a narrow place reaches out of it
+    /// before the roadmap is dense there. Round `rr` makes `TREE_FIRST << (rr - 1)`
+    /// extension attempts divided among the query's `share` goals (the object's usable
+    /// grasps, or 1), from an RNG seeded by (seed, goal, rr): the tree is a pure
+    /// function of those, whichever query grows it. Checked under the robot's lock,
+    /// without rayon.
+    pub(super) fn grow_tree(&self, root: u32, r: usize, share: usize, checks: &mut u64) {
         let mut c = 0;
         self.lock(
             |s| {
@@ -69,7 +75,7 @@ impl<S: Space> RobotPlanner<S> {
                 while s.goals[root as usize].tree_rounds < r {
                     let rr = s.goals[root as usize].tree_rounds + 1;
                     let mut rng = ChaCha8Rng::seed_from_u64(mix(&[self.seed, TREE_STREAM, key, rr as u64]));
-                    let attempts = (TREE_FIRST << (rr - 1).min(16)).min(TREE_MAX);
+                    let attempts = ((TREE_FIRST << (rr - 1).min(16)) / share.max(1)).clamp(TREE_MIN, TREE_MAX);
                     for _ in 0..attempts {
                         let target: Vec<f64> =
                             lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
@@ -90,6 +96,7 @@ impl<S: Space> RobotPlanner<S> {
                         s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
                         s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(near), Node::Goal(id)), Some(le));
                         s.goals[root as usize].tree.push((id, near, rr));
+                        self.connect(s, root, id, rr, &mut c);
                     }
                     s.goals[root as usize].tree_rounds = rr;
                 }
@@ -97,6 +104,40 @@ impl<S: Space> RobotPlanner<S> {
             checks,
         );
         *checks += c;
+    }
+
+    /// RRT-Connect's connect step, with the roadmap as the other tree: from tree node
+    /// `from`, march towards its nearest roadmap vertex in steps of [`TREE_STEP`],
+    /// adding a tree node per clear step, until blocked or the vertex is reached; a
+    /// reached vertex becomes the tree's link to the roadmap. Tree nodes join the search
+    /// graphs only through their tree edges and such links, so a tree of thousands of
+    /// nodes stays cheap to search.
+    fn connect(&self, s: &mut State, root: u32, from: u32, rr: usize, c: &mut u64) {
+        let Some(&(_, v)) = s.map.trees[rr].nearest(&s.goals[from as usize].q, 1, |_| false).first() else { return };
+        let q_v = s.map.q(v).to_vec();
+        let res = self.settings.resolution;
+        let mut cur = from;
+        for _ in 0..CONNECT_MAX {
+            let q_cur = s.goals[cur as usize].q.clone();
+            let d = dist2(&q_cur, &q_v).sqrt();
+            if d <= TREE_STEP {
+                if let Check::Touches(le) = self.space.check_segment(&q_cur, &q_v, res, &Mode::default(), c) {
+                    s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Map(v), Node::Goal(cur)), Some(le));
+                    s.goals[root as usize].links.push((cur, v, rr));
+                }
+                return;
+            }
+            let t = TREE_STEP / d;
+            let q: Vec<f64> = q_cur.iter().zip(&q_v).map(|(a, b)| a + t * (b - a)).collect();
+            let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return };
+            let Check::Touches(le) = self.space.check_segment(&q_cur, &q, res, &Mode::default(), c) else { return };
+            s.goals.push(GoalNode::new(&q));
+            let id = (s.goals.len() - 1) as u32;
+            s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
+            s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(cur), Node::Goal(id)), Some(le));
+            s.goals[root as usize].tree.push((id, cur, rr));
+            cur = id;
+        }
     }
 
     /// The node carried objects are taken to: home itself, or a goal node; or what

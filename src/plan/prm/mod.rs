@@ -204,7 +204,7 @@ impl<S: Space> RobotPlanner<S> {
             let trees = best.is_none() && r > 0;
             if trees {
                 for g in &live {
-                    self.grow_tree(g.pre, r, checks);
+                    self.grow_tree(g.pre, r, goals.len(), checks);
                 }
             }
             let cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks).map(|mut c| {
