@@ -339,3 +339,46 @@ fn exact_minimum_among_150_removable_objects() {
     let found = a.result.expect("either gap is a path once its objects are gone");
     assert_eq!(found.removals, set(&[0, 1]), "{:?}", a.stats);
 }
+
+/// The waypoints of a found path, and its length.
+fn waypoints(p: &JointPath) -> (Vec<Vec<f64>>, f64) {
+    let qs: Vec<Vec<f64>> = p.0.iter().map(|c| c.0.clone()).collect();
+    let len = qs.windows(2).map(|s| ((s[0][0] - s[1][0]).powi(2) + (s[0][1] - s[1][1]).powi(2)).sqrt()).sum();
+    (qs, len)
+}
+
+#[test]
+fn a_found_path_goes_straight_where_nothing_is_in_the_way() {
+    // An empty square: the roadmap's path zigzags through its vertices; what is handed on
+    // is the straight move from home to the goal.
+    let w = Points { objects: vec![], fixed: vec![], limits: vec![(0.0, 1.0); 2], home: vec![0.1, 0.5] };
+    let p = RobotPlanner::new(w, &PlannerSettings::default(), &PrmOptions::default(), 0);
+    let found = p.query(&Goal::Reach(vec![0.9, 0.3].into())).result.expect("an empty square has a path");
+    let (qs, _) = waypoints(&found.approach);
+    assert_eq!(qs, vec![vec![0.1, 0.5], vec![0.9, 0.3]]);
+}
+
+#[test]
+fn a_shortened_path_bends_where_it_must_and_removes_no_more() {
+    // A wall at x = 0.5 with a gap above y = 0.8, and a removable object across the
+    // straight line home -> goal just below the gap: the answer removes nothing, so no
+    // shortcut may pass through the object, and every move stays clear of the wall.
+    let fixed = vec![Rect::aabb(0.5, 0.4, 0.02, 0.4)];
+    let objects = vec![Rect::aabb(0.5, 0.76, 0.08, 0.04)];
+    let w = Points { objects, fixed, limits: vec![(0.0, 1.0); 2], home: vec![0.1, 0.5] };
+    let p = RobotPlanner::new(w, &PlannerSettings::default(), &PrmOptions::default(), 0);
+    let found = p.query(&Goal::Reach(vec![0.9, 0.5].into())).result.expect("the gap is a path");
+    assert_eq!(found.removals, ObjectSet::new());
+    let (qs, len) = waypoints(&found.approach);
+    // Checked as the planner certifies a move (a point robot grazing a corner between
+    // samples is the sampling's business, not the shortcut's).
+    let res = PlannerSettings::default().resolution;
+    for s in qs.windows(2) {
+        let c = p.space().check_motion(&s[0], &s[1], res, &Mode::default(), &mut 0);
+        assert_eq!(c, Check::free(), "{:?} -> {:?}", s[0], s[1]);
+    }
+    // The shortest way passes the gap's corner (0.52, 0.8) and the object's (0.58, 0.8):
+    // about 0.52 + 0.06 + 0.47 = 1.05. A bend or two of detour is fine; a zigzag is not.
+    assert!(qs.len() <= 5, "{} waypoints: {qs:?}", qs.len());
+    assert!(len < 1.3, "length {len:.3}: {qs:?}");
+}

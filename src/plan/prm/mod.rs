@@ -16,14 +16,16 @@
 
 mod goals;
 mod lazy;
+mod shortcut;
 
 use std::collections::{HashMap, HashSet};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::layers::{node_q, GraspGoal, Node, State};
+use super::layers::{mode_of, node_q, GraspGoal, ModeKey, Node, State};
 use super::roadmap::{mix, Roadmap};
 use super::search::{Found, Len};
+use super::space::Mode;
 use super::space::Space;
 use super::{Answer, Budget, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
@@ -277,8 +279,26 @@ impl<S: Space> RobotPlanner<S> {
     /// Turns a candidate's layered path into joint paths.
     fn assemble(&self, cand: &Cand, object: Option<ObjectId>, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
         let g = &goals[cand.goal];
-        let configs: Vec<(u8, Vec<f64>)> =
-            self.lock(|s| cand.nodes.iter().map(|&(layer, node)| (layer, node_q(s, node).to_vec())).collect(), checks);
+        let (found, carry) = self.lock(
+            |s| {
+                let found: Vec<(u8, Vec<f64>)> =
+                    cand.nodes.iter().map(|&(layer, node)| (layer, node_q(s, node).to_vec())).collect();
+                (found, object.map(|o| mode_of(s, ModeKey::Carry(o, g.key))))
+            },
+            checks,
+        );
+        // Each layer's run of waypoints is shortened in that layer's mode.
+        let mode = |layer: u8| match (layer, object) {
+            (0, _) | (_, None) => Mode::default(),
+            (1, Some(_)) => carry.clone().unwrap_or_default(),
+            (_, Some(o)) => Mode { absent: ObjectSet::single(o), held: None },
+        };
+        let mut configs: Vec<(u8, Vec<f64>)> = Vec::with_capacity(found.len());
+        for run in found.chunk_by(|a, b| a.0 == b.0) {
+            let qs: Vec<Vec<f64>> = run.iter().map(|c| c.1.clone()).collect();
+            let short = self.shortcut(&qs, &mode(run[0].0), &cand.set, checks);
+            configs.extend(short.into_iter().map(|q| (run[0].0, q)));
+        }
         let mut approach: Vec<Config> = configs.iter().filter(|c| c.0 == 0).map(|c| Config(c.1.clone())).collect();
         let mut retreat = Vec::new();
         if object.is_some() {

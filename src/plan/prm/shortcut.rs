@@ -1,0 +1,56 @@
+//! Shortening a found path: waypoints are dropped where the straight move that
+//! replaces them passes the certifying check touching only objects the path already
+//! removes. The removal set cannot grow, so the answer stays as minimal as it was; the
+//! motion gets shorter and loses the zigzags of goal trees and roadmap detours.
+
+use super::super::space::{Mode, Space};
+use super::RobotPlanner;
+use crate::world::{Check, ObjectSet};
+
+impl<S: Space> RobotPlanner<S> {
+    /// `run` with waypoints dropped, its ends kept: a straight move from `run[i]` to
+    /// `run[k]` replaces the waypoints between when it is clear (divide and conquer:
+    /// the whole run first, then each half; then one pass dropping single waypoints).
+    pub(super) fn shortcut(
+        &self,
+        run: &[Vec<f64>],
+        mode: &Mode,
+        allowed: &ObjectSet,
+        checks: &mut u64,
+    ) -> Vec<Vec<f64>> {
+        let mut keep = vec![false; run.len()];
+        if let (Some(f), Some(l)) = (keep.first_mut(), run.len().checked_sub(1)) {
+            *f = true;
+            keep[l] = true;
+        }
+        let mut todo = vec![(0, run.len().saturating_sub(1))];
+        while let Some((i, k)) = todo.pop() {
+            if k <= i + 1 || self.clear(&run[i], &run[k], mode, allowed, checks) {
+                continue;
+            }
+            let m = (i + k) / 2;
+            keep[m] = true;
+            todo.push((m, k));
+            todo.push((i, m));
+        }
+        let mut out: Vec<Vec<f64>> = run.iter().zip(keep).filter(|(_, k)| *k).map(|(q, _)| q.clone()).collect();
+        // Halving keeps midpoints a better split would not need: drop each waypoint
+        // whose neighbours see each other.
+        let mut i = 1;
+        while i + 1 < out.len() {
+            if self.clear(&out[i - 1], &out[i + 1], mode, allowed, checks) {
+                out.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+        out
+    }
+
+    fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
+        match self.space.check_motion(a, b, self.settings.resolution, mode, checks) {
+            Check::Touches(l) => l.is_subset(allowed),
+            Check::Blocked(_) => false,
+        }
+    }
+}
