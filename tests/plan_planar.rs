@@ -348,17 +348,6 @@ fn waypoints(p: &JointPath) -> (Vec<Vec<f64>>, f64) {
 }
 
 #[test]
-fn a_found_path_goes_straight_where_nothing_is_in_the_way() {
-    // An empty square: the roadmap's path zigzags through its vertices; what is handed on
-    // is the straight move from home to the goal.
-    let w = Points { objects: vec![], fixed: vec![], limits: vec![(0.0, 1.0); 2], home: vec![0.1, 0.5] };
-    let p = RobotPlanner::new(w, &PlannerSettings::default(), &PrmOptions::default(), 0);
-    let found = p.query(&Goal::Reach(vec![0.9, 0.3].into())).result.expect("an empty square has a path");
-    let (qs, _) = waypoints(&found.approach);
-    assert_eq!(qs, vec![vec![0.1, 0.5], vec![0.9, 0.3]]);
-}
-
-#[test]
 fn a_shortened_path_bends_where_it_must_and_removes_no_more() {
     // A wall at x = 0.5 with a gap above y = 0.8, and a removable object across the
     // straight line home -> goal just below the gap: the answer removes nothing, so no
