@@ -61,8 +61,9 @@ impl Arm {
             Arm::Tx90 => (0.15, 0.16),
             // The Panda's hand is 20 cm across its fingers' travel, 10 cm to the tcp.
             Arm::Panda | Arm::PandaMesh => (0.2, 0.11),
-            // The UR5's wrist, 9 cm across, ends at the flange.
-            Arm::Ur5 => (0.1, 0.1),
+            // No hand: the UR5's wrist enters, 20 cm across its offset links, its
+            // forearm some 6 cm above the flange when the flange points down.
+            Arm::Ur5 => (0.2, 0.06),
         }
     }
 
