@@ -173,7 +173,11 @@ fn against_known(arm: Arm, family: &str, solved: &[u64], removals: usize) -> Str
     let known: Vec<u64> = k.paths.iter().map(|&(i, _)| i).filter(|&i| i < 10).collect();
     let missed: Vec<u64> = known.iter().filter(|i| !solved.contains(i)).copied().collect();
     let n = known.len() - missed.len();
-    format!("{arm:?} {family}: {}/10 solved, {n}/{} with a known path, {removals} removed, missed {missed:?}", solved.len(), known.len())
+    format!(
+        "{arm:?} {family}: {}/10 solved, {n}/{} with a known path, {removals} removed, missed {missed:?}",
+        solved.len(),
+        known.len()
+    )
 }
 
 /// The first ten problems of each new family, on the arms the first snapshots pin.
@@ -270,7 +274,8 @@ fn establish_known_paths() {
                 let (w, goal) = load(&p.path);
                 let r = RobotId(0);
                 let t = Instant::now();
-                let seed = (0..seeds).find(|&seed| rrt::rrt_connect(&w, r, w.home(r), &goal, ITERATIONS, seed).is_some());
+                let seed =
+                    (0..seeds).find(|&seed| rrt::rrt_connect(&w, r, w.home(r), &goal, ITERATIONS, seed).is_some());
                 eprintln!("{arm:?} {family} {i}: seed {seed:?}, {:.1} s", t.elapsed().as_secs_f64());
                 paths.extend(seed.map(|s| format!("({i}, {s})")));
             }
@@ -323,4 +328,3 @@ fn solved_fraction_and_times_over_known_paths() {
         }
     }
 }
-

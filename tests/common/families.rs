@@ -39,8 +39,7 @@ pub use arms::{Arm, ARMS};
 use obstacles::obstacles;
 
 /// New families go at the end: a family's index is part of its problems' seeds.
-pub const FAMILIES: [&str; 7] =
-    ["table_top", "cage", "shelf", "narrow_gap", "bookshelf", "deep_box", "under_table"];
+pub const FAMILIES: [&str; 7] = ["table_top", "cage", "shelf", "narrow_gap", "bookshelf", "deep_box", "under_table"];
 
 /// The shared robot directory, or `None` (with the reason printed) when absent.
 pub fn shared_robots() -> Option<PathBuf> {

@@ -95,7 +95,10 @@ pub fn obstacles(family: &str, arm: Arm, rng: &mut ChaCha8Rng, z: f64) -> Vec<Ob
         "deep_box" => {
             // An open box on the table, its walls rising above the wrist of a hand that
             // points down into it near the floor; the hand off its centre by a little.
-            let half = [between(rng, 0.5 * width + 0.06, 0.5 * width + 0.12), between(rng, 0.5 * width + 0.06, 0.5 * width + 0.12)];
+            let half = [
+                between(rng, 0.5 * width + 0.06, 0.5 * width + 0.12),
+                between(rng, 0.5 * width + 0.06, 0.5 * width + 0.12),
+            ];
             let height = z + length + between(rng, 0.04, 0.1);
             let centre = [between(rng, -0.03, 0.03), between(rng, -0.03, 0.03)];
             for side in [1.0, -1.0] {
