@@ -1,10 +1,12 @@
-//! The benchmark families of `tests/common/families.rs` (a TX-90 of `../shared/robots`
-//! among generated obstacles): each problem's world built once, then what `compile`
-//! does between loading and writing (plan, schedule, verify), timed per problem.
-//! Skipped when `../shared/robots` is absent.
+//! The benchmark families of `tests/common/families.rs` (the arms of `../shared/robots`
+//! among generated obstacles), timed per problem end to end as the issue measures them:
+//! from the written scenario to a verified schedule (resolve, world build, plan,
+//! schedule, verify). Skipped when `../shared/robots` is absent.
 //!
 //! `RAYON_NUM_THREADS=1 cargo bench --bench families` (one core); `FAMILY_N` problems
-//! per family (default 5).
+//! per arm and family (default 2), `FAMILY_ARMS=Tx90,Ur5` for some arms only. The
+//! solved fraction, median and 95th percentile over the problems known to have a path
+//! are printed by `tests/families.rs`'s `solved_fraction_and_times_over_known_paths`.
 
 use std::path::Path;
 
@@ -15,24 +17,34 @@ use declutter::world::{self, WorldOptions};
 #[path = "../tests/common/families.rs"]
 mod families;
 
+/// Load to verified schedule; the number of actions, or `None` if verification failed.
+fn end_to_end(path: &Path) -> Option<usize> {
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(path, &FsLoader, &mut sources).expect("resolves");
+    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
+    declutter::driver::plan_verified(&w, &|_| {}).map(|p| p.schedule.actions.len()).ok()
+}
+
 fn bench_families(c: &mut Criterion) {
     let Some(robots) = families::shared_robots() else { return };
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench-families");
     std::fs::create_dir_all(&dir).expect("scratch dir");
-    let arm = families::Arm::Tx90;
-    let probe = families::probe(arm, &robots, &dir).expect("the arm builds");
-    let n: u64 = std::env::var("FAMILY_N").ok().and_then(|v| v.parse().ok()).unwrap_or(5);
+    let n: u64 = std::env::var("FAMILY_N").ok().and_then(|v| v.parse().ok()).unwrap_or(2);
+    let only = std::env::var("FAMILY_ARMS").ok();
     let mut group = c.benchmark_group("families");
     group.sample_size(10);
-    for family in families::FAMILIES {
-        for i in 0..n {
-            let p = families::problem(arm, &probe, &robots, &dir, family, i).expect("a goal is found");
-            let mut sources = SourceMap::new();
-            let scn = declutter::resolve::resolve(&p.path, &FsLoader, &mut sources).expect("resolves");
-            let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-            group.bench_with_input(BenchmarkId::new(family, i), &w, |b, w| {
-                b.iter(|| declutter::driver::plan_verified(w, &|_| {}).map(|p| p.schedule.actions.len()).ok())
-            });
+    for arm in families::ARMS {
+        if only.as_ref().is_some_and(|o| !o.split(',').any(|a| a == format!("{arm:?}"))) {
+            continue;
+        }
+        let probe = families::probe(arm, &robots, &dir).expect("the arm builds");
+        for family in families::FAMILIES {
+            for i in 0..n {
+                let Some(p) = families::problem(arm, &probe, &robots, &dir, family, i) else { continue };
+                group.bench_with_input(BenchmarkId::new(format!("{arm:?}/{family}"), i), &p.path, |b, path| {
+                    b.iter(|| end_to_end(path))
+                });
+            }
         }
     }
     group.finish();

@@ -1,8 +1,8 @@
-//! Seeded benchmark families on real arms of `../shared/robots` (the TX-90 with a hand,
-//! the Panda's sphere model): a configuration target with fixed obstacles built around
-//! the hand (or the flange) at that target.
+//! Seeded benchmark families on real arms of `../shared/robots` (see [`Arm`]: the TX-90
+//! with a hand, the Panda's sphere and mesh models, the UR5): a configuration target with
+//! fixed obstacles built around the hand (or the flange) at that target.
 //!
-//! Each problem is a pure function of (family, index): a ChaCha RNG draws the goal
+//! Each problem is a pure function of (arm, family, index): a ChaCha RNG draws the goal
 //! configuration until the hand stands where the family wants it and the arm touches
 //! nothing there, then the obstacles are placed around the hand and the goal is kept
 //! only if it is still clear. The families:
@@ -10,7 +10,13 @@
 //! - `cage`: four bars and a roof around the hand, entered between two bars;
 //! - `shelf`: a board above and below the hand and a back wall behind it;
 //! - `narrow_gap`: a wall across the hand's way with a window it reaches through, and
-//!   removable boxes beside the window (never in it): the right answer removes nothing.
+//!   removable boxes beside the window (never in it): the right answer removes nothing;
+//! - `bookshelf`: 3-4 boards between two sides and a back, the hand in one shelf,
+//!   pointing in from the front;
+//! - `deep_box`: an open box on the table, walls above the wrist, the hand pointing down
+//!   near its floor;
+//! - `under_table`: a second table on four legs over the hand, reached under from the
+//!   base's side.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -18,10 +24,22 @@ use std::path::{Path, PathBuf};
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::RobotId;
 use declutter::world::{self, CheckCtx, World, WorldOptions};
+use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-pub const FAMILIES: [&str; 4] = ["table_top", "cage", "shelf", "narrow_gap"];
+#[path = "families/arms.rs"]
+mod arms;
+#[path = "families/known.rs"]
+pub mod known;
+#[path = "families/obstacles.rs"]
+mod obstacles;
+
+pub use arms::{Arm, ARMS};
+use obstacles::obstacles;
+
+/// New families go at the end: a family's index is part of its problems' seeds.
+pub const FAMILIES: [&str; 7] = ["table_top", "cage", "shelf", "narrow_gap", "bookshelf", "deep_box", "under_table"];
 
 /// The shared robot directory, or `None` (with the reason printed) when absent.
 pub fn shared_robots() -> Option<PathBuf> {
@@ -31,35 +49,6 @@ pub fn shared_robots() -> Option<PathBuf> {
     } else {
         eprintln!("skipped: {} is absent (the shared robot files are not in this checkout)", p.display());
         None
-    }
-}
-
-/// The arms the families run on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Arm {
-    /// The TX-90 (`tx90/tx90.urdf`) with the `sah` hand of the examples.
-    Tx90,
-    /// The Panda's sphere model (`panda/vamp/panda_spherized.urdf`), its own hand.
-    Panda,
-}
-
-fn cell(arm: Arm, robots: &Path) -> String {
-    match arm {
-        Arm::Tx90 => {
-            let hands = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hands/sah.urdf");
-            format!(
-                "hand sah {{\n    urdf \"{}\"\n    tcp at (0, 0, 16cm)\n}}\n\
-                 robot arm {{\n    urdf \"{}\"\n    hand sah\n    home [0, -20deg, 110deg, 0, 60deg, 0]\n}}\n\
-                 fixed table box(1.6m, 1.6m, 4cm) at (0, 0, -2cm)\n",
-                hands.display(),
-                robots.join("tx90/tx90.urdf").display()
-            )
-        }
-        Arm::Panda => format!(
-            "robot arm {{\n    urdf \"{}\"\n    home [0, -45deg, 0, -135deg, 0, 90deg, 45deg]\n}}\n\
-             fixed table box(1.6m, 1.6m, 4cm) at (0, 0, -2cm)\n",
-            robots.join("panda/vamp/panda_spherized.urdf").display()
-        ),
     }
 }
 
@@ -81,11 +70,7 @@ pub struct Problem {
 
 /// The arm alone on the table (for drawing goals); `None` if it does not build.
 pub fn probe(arm: Arm, robots: &Path, dir: &Path) -> Option<World> {
-    let home = match arm {
-        Arm::Tx90 => "[0, -20deg, 110deg, 0, 60deg, 0]",
-        Arm::Panda => "[0, -45deg, 0, -135deg, 0, 90deg, 45deg]",
-    };
-    let text = format!("scenario \"probe\"\n{}target arm at {home}\n", cell(arm, robots));
+    let text = format!("scenario \"probe\"\n{}target arm at {}\n", arm.cell(robots), arm.home());
     load(&text, dir, &format!("probe_{arm:?}"))
 }
 
@@ -106,11 +91,7 @@ pub fn problem(
     index: u64,
 ) -> Option<Problem> {
     let fam = FAMILIES.iter().position(|f| *f == family)? as u64;
-    let arm_key = match arm {
-        Arm::Tx90 => 0,
-        Arm::Panda => 100,
-    };
-    let mut rng = ChaCha8Rng::seed_from_u64(mix(fam + 1 + arm_key, index));
+    let mut rng = ChaCha8Rng::seed_from_u64(mix(fam + 1 + arm.key(), index));
     let r = RobotId(0);
     let lim = probe.limits(r).to_vec();
     for _ in 0..20_000 {
@@ -121,14 +102,17 @@ pub fn problem(
         let tcp = probe.fk_tcp(r, &q);
         let p = tcp.translation.vector;
         let reach = (p.x * p.x + p.y * p.y).sqrt();
-        let z_band = if family == "table_top" { (0.08, 0.25) } else { (0.15, 0.55) };
-        if !(0.45..=0.85).contains(&reach) || p.z < z_band.0 || p.z > z_band.1 {
+        let (reach_band, z_band) = bands(family);
+        if !reach_band.contains(&reach) || p.z < z_band.0 || p.z > z_band.1 {
             continue;
         }
         // The obstacles' frame: x from the base out to the hand, z up.
         let yaw = p.y.atan2(p.x);
-        let obstacles = obstacles(family, &mut rng, p.z);
-        let mut text = format!("scenario \"{family}-{index}\"\n{}", cell(arm, robots));
+        if !facing(family, &(tcp.rotation * Vector3::z()), yaw) {
+            continue;
+        }
+        let obstacles = obstacles(family, arm, &mut rng, p.z);
+        let mut text = format!("scenario \"{family}-{index}\"\n{}", arm.cell(robots));
         for (k, o) in obstacles.iter().enumerate() {
             let (c, s) = (yaw.cos(), yaw.sin());
             let (x, y) = (p.x + c * o.at[0] - s * o.at[1], p.y + s * o.at[0] + c * o.at[1]);
@@ -149,10 +133,7 @@ pub fn problem(
         }
         let values: Vec<String> = q.iter().map(|v| format!("{v:.6}")).collect();
         text.push_str(&format!("target arm at [{}]\n", values.join(", ")));
-        let name = match arm {
-            Arm::Tx90 => format!("{family}_{index}"),
-            Arm::Panda => format!("panda_{family}_{index}"),
-        };
+        let name = format!("{}{family}_{index}", arm.prefix());
         let Some(w) = load(&text, dir, &name) else { continue };
         // The goal must be clear of every obstacle, removable ones included.
         if w.check(r, &q, &CheckCtx::new()) != world::Check::free() {
@@ -166,57 +147,27 @@ pub fn problem(
     None
 }
 
-/// A box in the hand's frame (x out from the base, z up from the table).
-struct Obstacle {
-    size: [f64; 3],
-    at: [f64; 3],
-    removable: bool,
+/// The hand's distance from the base's axis and its height above the table (metres)
+/// that `family` draws goals in.
+fn bands(family: &str) -> (std::ops::RangeInclusive<f64>, (f64, f64)) {
+    match family {
+        "table_top" => (0.45..=0.85, (0.08, 0.25)),
+        "bookshelf" => (0.5..=0.85, (0.25, 0.75)),
+        "deep_box" => (0.4..=0.75, (0.04, 0.12)),
+        "under_table" => (0.5..=0.85, (0.1, 0.3)),
+        _ => (0.45..=0.85, (0.15, 0.55)),
+    }
 }
 
-fn obstacles(family: &str, rng: &mut ChaCha8Rng, z: f64) -> Vec<Obstacle> {
-    let fixed = |size: [f64; 3], at: [f64; 3]| Obstacle { size, at, removable: false };
-    let mut out = Vec::new();
+/// Whether the tool's approach axis `z_tool` suits `family` at azimuth `yaw`: into a
+/// bookshelf or under a table from the front (away from the base, near level), down
+/// into a deep box. The first four families take any.
+fn facing(family: &str, z_tool: &Vector3<f64>, yaw: f64) -> bool {
+    let out = Vector3::new(yaw.cos(), yaw.sin(), 0.0);
     match family {
-        "table_top" => {
-            // A few fixed blocks around, not under, the hand.
-            for _ in 0..3 {
-                let (a, d) = (rng.random::<f64>() * std::f64::consts::TAU, 0.18 + 0.1 * rng.random::<f64>());
-                out.push(fixed([0.06, 0.06, 0.12], [d * a.cos(), d * a.sin(), 0.06]));
-            }
-        }
-        "cage" => {
-            let h = 0.11 + 0.03 * rng.random::<f64>();
-            let top = z + 0.12;
-            for (sx, sy) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-                out.push(fixed([0.02, 0.02, top], [sx * h, sy * h, top / 2.0]));
-            }
-            out.push(fixed([2.0 * h + 0.04, 2.0 * h + 0.04, 0.02], [0.0, 0.0, top + 0.01]));
-        }
-        "shelf" => {
-            let gap = 0.13 + 0.05 * rng.random::<f64>();
-            let (below, above) = (z - gap / 2.0, z + gap / 2.0);
-            out.push(fixed([0.4, 0.6, 0.02], [0.05, 0.0, below.max(0.03) - 0.01]));
-            out.push(fixed([0.4, 0.6, 0.02], [0.05, 0.0, above + 0.01]));
-            out.push(fixed([0.02, 0.6, above + 0.02], [0.26, 0.0, (above + 0.02) / 2.0]));
-        }
-        "narrow_gap" => {
-            // A wall 10 cm in front of the hand (towards the base) with a window around
-            // the line from the base to the hand, 16-20 cm wide.
-            let w = 0.08 + 0.02 * rng.random::<f64>();
-            let x = -0.1;
-            let height = z + 0.4;
-            out.push(fixed([0.02, 0.5, height], [x, w + 0.25, height / 2.0]));
-            out.push(fixed([0.02, 0.5, height], [x, -w - 0.25, height / 2.0]));
-            out.push(fixed([0.02, 2.0 * w, (z - w).max(0.0)], [x, 0.0, (z - w).max(0.0) / 2.0]));
-            out.push(fixed([0.02, 2.0 * w, height - z - w], [x, 0.0, (height + z + w) / 2.0]));
-            // Removable boxes beside the window on the near side, never in it.
-            for k in 0..4 {
-                let side = if k % 2 == 0 { 1.0 } else { -1.0 };
-                let off = w + 0.06 + 0.08 * rng.random::<f64>();
-                out.push(Obstacle { size: [0.05, 0.05, 0.1], at: [x - 0.08, side * off, 0.05], removable: true });
-            }
-        }
-        _ => {}
+        "bookshelf" => z_tool.dot(&out) > 0.8,
+        "under_table" => z_tool.dot(&out) > 0.7 && z_tool.z < 0.3,
+        "deep_box" => z_tool.z < -0.85,
+        _ => true,
     }
-    out
 }
