@@ -155,16 +155,22 @@ fn mask_time(text: &str) -> String {
 
 #[test]
 fn a_proof_and_a_budget_give_up_exit_2_with_distinct_codes() {
+    let dir = TempDir::new("proof-or-budget");
+    let status = |file: &str| parse_schedule(&std::fs::read_to_string(file).expect("written")).expect("reads").status;
     // Proved: the target configuration puts a link in the table, and the message says which.
-    let o = run(&["compile", "tests/fixtures/plan/config_in_table.dcl", "--out", "/dev/null"]);
+    let proved = dir.path("proved.yaml");
+    let o = run(&["compile", "tests/fixtures/plan/config_in_table.dcl", "--out", &proved]);
     assert_eq!(code(&o), 2);
+    assert_eq!(status(&proved), schedule::Status::Infeasible, "the schedule says it is a proof too");
     let proof = stderr(&o);
     assert!(proof.starts_with("declutter::plan::infeasible\n"), "{proof}");
     assert!(!proof.contains("grasp"), "a configuration target's message speaks of the configuration: {proof}");
     insta::assert_snapshot!("compile_config_in_table_stderr", proof);
     // Not found within two samples: its own code, the figures, and the setting to raise.
-    let o = run(&["compile", "tests/fixtures/plan/gave_up.dcl", "--out", "/dev/null"]);
+    let budget = dir.path("budget.yaml");
+    let o = run(&["compile", "tests/fixtures/plan/gave_up.dcl", "--out", &budget]);
     assert_eq!(code(&o), 2);
+    assert_eq!(status(&budget), schedule::Status::GaveUp, "the schedule does not claim a proof");
     let gave_up = stderr(&o);
     assert!(gave_up.starts_with("declutter::plan::gave_up\n"), "{gave_up}");
     assert!(gave_up.contains("declutter::plan::budget_exhausted"), "{gave_up}");

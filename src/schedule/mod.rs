@@ -50,7 +50,7 @@ pub struct Schedule {
     pub events: Vec<Event>,
     pub graph: Vec<GraphNode>,
     pub stats: Vec<QueryStat>,
-    /// Why there is no schedule (only when `status` is `infeasible`).
+    /// Why there is no schedule (only when `status` is `infeasible` or `gave_up`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
 }
@@ -59,7 +59,10 @@ pub struct Schedule {
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     Solved,
+    /// Proved: no assignment exists (every dead end has a cause that no budget changes).
     Infeasible,
+    /// None found within the planning budget; a bigger budget may find one.
+    GaveUp,
 }
 
 /// The target as written: an object's name, or a robot and its joint values.
@@ -320,7 +323,10 @@ pub fn build_with(
                 .collect();
             (Status::Solved, removed, actions, None)
         }
-        Err(why) => (Status::Infeasible, Vec::new(), Vec::new(), Some(why.reason())),
+        Err(why) => {
+            let status = if why.is_proof() { Status::Infeasible } else { Status::GaveUp };
+            (status, Vec::new(), Vec::new(), Some(why.reason()))
+        }
     };
     // The graph is a tree, so an object can stand under several branches; a repeat that
     // was never analysed (all flags Empty) says nothing its first entry does not, and the
