@@ -108,8 +108,12 @@ fn panda_scenario(name: &str) -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("grippers");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     let link = dir.join("robots");
+    // Tests run in parallel: another may have made the link since the look.
     if std::fs::symlink_metadata(&link).is_err() {
-        std::os::unix::fs::symlink(robots.canonicalize().expect("robots"), &link).expect("symlink");
+        match std::os::unix::fs::symlink(robots.canonicalize().expect("robots"), &link) {
+            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => panic!("symlink: {e}"),
+            _ => {}
+        }
     }
     let path = dir.join(format!("{name}.dcl"));
     std::fs::copy(format!("tests/fixtures/grippers/{name}.dcl"), &path).expect("scenario copied");
