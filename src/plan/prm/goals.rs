@@ -85,17 +85,12 @@ impl<S: Space> RobotPlanner<S> {
                             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                         let Some((d2, near)) = near else { break };
                         let q_near = s.goals[near as usize].q.clone();
-                        let t = (TREE_STEP / d2.sqrt().max(f64::MIN_POSITIVE)).min(1.0);
-                        let q: Vec<f64> = q_near.iter().zip(&target).map(|(a, b)| a + t * (b - a)).collect();
+                        let q = step_towards(&q_near, &target, d2.sqrt());
                         let Check::Touches(l) = self.space.check(&q, &Mode::default(), &mut c) else { continue };
                         let res = self.settings.resolution;
                         let seg = self.space.check_segment(&q_near, &q, res, &Mode::default(), &mut c);
                         let Check::Touches(le) = seg else { continue };
-                        s.goals.push(GoalNode::new(&q));
-                        let id = (s.goals.len() - 1) as u32;
-                        s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
-                        s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(near), Node::Goal(id)), Some(le));
-                        s.goals[root as usize].tree.push((id, near, rr));
+                        let id = add_tree_node(s, root, near, &q, (l, le), rr);
                         self.connect(s, root, id, rr, &mut c);
                     }
                     s.goals[root as usize].tree_rounds = rr;
@@ -127,16 +122,10 @@ impl<S: Space> RobotPlanner<S> {
                 }
                 return;
             }
-            let t = TREE_STEP / d;
-            let q: Vec<f64> = q_cur.iter().zip(&q_v).map(|(a, b)| a + t * (b - a)).collect();
+            let q = step_towards(&q_cur, &q_v, d);
             let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return };
             let Check::Touches(le) = self.space.check_segment(&q_cur, &q, res, &Mode::default(), c) else { return };
-            s.goals.push(GoalNode::new(&q));
-            let id = (s.goals.len() - 1) as u32;
-            s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
-            s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(cur), Node::Goal(id)), Some(le));
-            s.goals[root as usize].tree.push((id, cur, rr));
-            cur = id;
+            cur = add_tree_node(s, root, cur, &q, (l, le), rr);
         }
     }
 
@@ -275,4 +264,20 @@ impl<S: Space> RobotPlanner<S> {
         }
         (out, blockers)
     }
+}
+
+/// The point [`TREE_STEP`] from `a` towards `b` (`b` itself when nearer), `d` being their distance.
+fn step_towards(a: &[f64], b: &[f64], d: f64) -> Vec<f64> {
+    let t = (TREE_STEP / d.max(f64::MIN_POSITIVE)).min(1.0);
+    a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
+}
+
+/// Adds `q` to `root`'s tree under `parent`, with its empty-hand label and its edge's.
+fn add_tree_node(s: &mut State, root: u32, parent: u32, q: &[f64], (l, le): (ObjectSet, ObjectSet), rr: usize) -> u32 {
+    s.goals.push(GoalNode::new(q));
+    let id = (s.goals.len() - 1) as u32;
+    s.labels.insert(LabelKey::Vertex(ModeKey::Empty, Node::Goal(id)), Some(l));
+    s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Goal(parent), Node::Goal(id)), Some(le));
+    s.goals[root as usize].tree.push((id, parent, rr));
+    id
 }
