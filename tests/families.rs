@@ -301,7 +301,8 @@ fn quantile(xs: &[f64], p: f64) -> f64 {
 /// the removals, and the median and 95th percentile of the wall time from loading to a
 /// verified schedule (resolve, world build, plan, verify), as a Markdown table. One
 /// core: `RAYON_NUM_THREADS=1 cargo test --release -j1 --test families -- --ignored
-/// --nocapture over_known_paths` (`FAMILY_ARMS=Ur5,PandaMesh` for some arms only).
+/// --nocapture over_known_paths` (`FAMILY_ARMS=Ur5,PandaMesh` for some arms only,
+/// `FAMILY_NAMES=cage,narrow_gap` for some families only).
 #[test]
 #[ignore = "a long run: every problem known to have a path"]
 fn solved_fraction_and_times_over_known_paths() {
@@ -311,7 +312,7 @@ fn solved_fraction_and_times_over_known_paths() {
     println!("| arm | family | solved / known path | removals | median | p95 |\n|---|---|---:|---:|---:|---:|");
     for arm in ARMS.into_iter().filter(|a| chosen("FAMILY_ARMS", &format!("{a:?}"))) {
         let probe = probe(arm, &robots, &dir).expect("the arm builds on the table");
-        for &Known { family, paths, .. } in KNOWN.iter().filter(|k| k.arm == arm) {
+        for &Known { family, paths, .. } in KNOWN.iter().filter(|k| k.arm == arm && chosen("FAMILY_NAMES", k.family)) {
             let (mut solved, mut removals, mut secs) = (0, 0, Vec::new());
             for &(i, _) in paths {
                 let p = problem(arm, &probe, &robots, &dir, family, i).expect("a known problem draws its goal");

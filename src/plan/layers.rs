@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use super::knn::dist2;
+use super::knn::{dist2, KdTree};
 use super::roadmap::Roadmap;
 use super::search::{mask, Found, Lab, LabelGraph, Mask};
 use super::space::Mode;
@@ -46,11 +46,14 @@ pub(super) struct GoalNode {
     pub(super) tree_rounds: usize,
     /// The tree's links to the roadmap: (tree node, roadmap vertex, round found).
     pub(super) links: Vec<(u32, u32, usize)>,
+    /// A nearest-node index of the tree (its root first): a k-d tree over the first
+    /// nodes and how many it holds; later nodes are scanned.
+    pub(super) index: Option<(KdTree, usize)>,
 }
 
 impl GoalNode {
     pub(super) fn new(q: &[f64]) -> GoalNode {
-        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0, links: Vec::new() }
+        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0, links: Vec::new(), index: None }
     }
 }
 
@@ -313,8 +316,15 @@ pub(super) fn build(
         for &x in extras {
             if in_tree.contains(&x) {
                 nbrs.entry(x).or_default();
-            } else if let std::collections::hash_map::Entry::Vacant(e) = nbrs.entry(x) {
-                e.insert(goal_nbrs(s, x, r, k));
+            } else {
+                // The goal and the first tree nodes: their nearest vertices beside any links.
+                let near = goal_nbrs(s, x, r, k);
+                let e = nbrs.entry(x).or_default();
+                if !near.iter().all(|v| e.contains(v)) {
+                    e.extend(near);
+                    e.sort_unstable();
+                    e.dedup();
+                }
             }
         }
     }
@@ -402,12 +412,12 @@ pub(super) fn build(
             }
         }
         if extras.contains(&pre) {
-            let at = |x: u32| off + n + extras.iter().position(|&y| y == x).expect("tree node in extras") as u32;
+            let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
             for &(c, p) in &tree {
                 let (nc, np) = (Node::Goal(c), Node::Goal(p));
                 let len = dist2(&s.goals[c as usize].q, &s.goals[p as usize].q).sqrt();
                 let known = lookup(s, LabelKey::Edge(mode, nc.min(np), nc.max(np)));
-                add_edge(&mut b, at(p), at(c), np, nc, len, known);
+                add_edge(&mut b, pos[&p], pos[&c], np, nc, len, known);
             }
         }
     }
@@ -446,5 +456,38 @@ pub(super) fn build(
             }
         }
     }
+    b.g.h = estimate(s, &b, object.map(|_| (goal, drop)));
     b
+}
+
+/// The searches' A* estimate for each vertex of a built graph: the straight distance to
+/// its layer's end plus the shortest the later layers can be (each layer's end to the
+/// next one's, and the approach's out and back). A transition edge costs exactly the
+/// difference of its ends' estimates and every other edge is at least the straight
+/// distance it spans, so no edge breaks the estimate.
+fn estimate(s: &State, b: &Built, grasp: Option<(&GraspGoal, Option<Node>)>) -> Vec<f64> {
+    let q_of = |n: Node| node_q(s, n);
+    // Per layer: where it ends and the rest of the way from there.
+    let ends: Vec<(&[f64], f64)> = match grasp {
+        None => vec![(q_of(b.vnode[b.goal as usize].1), 0.0)],
+        Some((g, drop)) => {
+            let (pre, home) = (&s.goals[g.pre as usize].q[..], q_of(Node::Map(0)));
+            let approach = 2.0 * dist2(&g.cfg.q_pregrasp, &g.cfg.q_grasp).sqrt();
+            match drop {
+                Some(Node::Goal(d)) => {
+                    let dq = &s.goals[d as usize].q[..];
+                    let back = dist2(dq, home).sqrt();
+                    vec![(pre, approach + dist2(pre, dq).sqrt() + back), (dq, back), (home, 0.0)]
+                }
+                _ => vec![(pre, approach + dist2(pre, home).sqrt()), (home, 0.0)],
+            }
+        }
+    };
+    b.vnode
+        .iter()
+        .map(|&(layer, node)| {
+            let (end, rest) = ends[layer as usize];
+            dist2(q_of(node), end).sqrt() + rest
+        })
+        .collect()
 }

@@ -4,7 +4,7 @@
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::super::knn::dist2;
+use super::super::knn::{dist2, KdTree};
 use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node, State};
 use super::super::roadmap::mix;
 use super::super::space::{Mode, Space};
@@ -21,6 +21,9 @@ const TREE_MAX: usize = 1 << 16;
 const TREE_STEP: f64 = 0.3;
 /// Most steps of one connect march (see `RobotPlanner::connect`).
 const CONNECT_MAX: usize = 64;
+/// Tree nodes scanned one by one beyond those a tree's k-d index holds (see
+/// `nearest_in_tree`).
+const INDEX_TAIL: usize = 64;
 /// The seed stream of the goal trees.
 const TREE_STREAM: u64 = 0x7472_6565;
 
@@ -79,19 +82,9 @@ impl<S: Space> RobotPlanner<S> {
                     for _ in 0..attempts {
                         let target: Vec<f64> =
                             lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
-                        let nodes = std::iter::once(root).chain(s.goals[root as usize].tree.iter().map(|t| t.0));
-                        let near = nodes
-                            .map(|x| (dist2(&s.goals[x as usize].q, &target), x))
-                            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                        let Some((d2, near)) = near else { break };
-                        let q_near = s.goals[near as usize].q.clone();
-                        let q = step_towards(&q_near, &target, d2.sqrt());
-                        let Check::Touches(l) = self.space.check(&q, &Mode::default(), &mut c) else { continue };
-                        let res = self.settings.resolution;
-                        let seg = self.space.check_segment(&q_near, &q, res, &Mode::default(), &mut c);
-                        let Check::Touches(le) = seg else { continue };
-                        let id = add_tree_node(s, root, near, &q, (l, le), rr);
-                        self.connect(s, root, id, rr, &mut c);
+                        if let Some(id) = self.extend(s, root, &target, rr, &mut c) {
+                            self.connect(s, root, id, rr, &mut c);
+                        }
                     }
                     s.goals[root as usize].tree_rounds = rr;
                 }
@@ -102,31 +95,65 @@ impl<S: Space> RobotPlanner<S> {
     }
 
     /// RRT-Connect's connect step, with the roadmap as the other tree: from tree node
-    /// `from`, march towards its nearest roadmap vertex in steps of [`TREE_STEP`],
-    /// adding a tree node per clear step, until blocked or the vertex is reached; a
+    /// `from`, march towards its nearest roadmap vertex (see [`Self::march`]); a
     /// reached vertex becomes the tree's link to the roadmap. Tree nodes join the search
     /// graphs only through their tree edges and such links, so a tree of thousands of
     /// nodes stays cheap to search.
     fn connect(&self, s: &mut State, root: u32, from: u32, rr: usize, c: &mut u64) {
         let Some(&(_, v)) = s.map.trees[rr].nearest(&s.goals[from as usize].q, 1, |_| false).first() else { return };
         let q_v = s.map.q(v).to_vec();
-        let res = self.settings.resolution;
+        if let Some((cur, le)) = self.march(s, root, from, &q_v, rr, c) {
+            s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Map(v), Node::Goal(cur)), Some(le));
+            s.goals[root as usize].links.push((cur, v, rr));
+        }
+    }
+
+    /// RRT's extension of goal `root`'s tree: one step from the node nearest `target`
+    /// towards it, added when the step and its motion hit nothing fixed.
+    fn extend(&self, s: &mut State, root: u32, target: &[f64], rr: usize, c: &mut u64) -> Option<u32> {
+        let near = nearest_in_tree(s, root, target);
+        let q_near = s.goals[near as usize].q.clone();
+        let q = step_towards(&q_near, target, dist2(&q_near, target).sqrt());
+        let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return None };
+        let Check::Touches(le) = self.tree_segment(&q_near, &q, c) else { return None };
+        Some(add_tree_node(s, root, near, &q, (l, le), rr))
+    }
+
+    /// From node `from` of goal `root`'s tree, march towards `to` in steps of
+    /// [`TREE_STEP`], adding a node per clear step, up to [`CONNECT_MAX`] steps, until
+    /// blocked or within a step of `to`: then the last node and its clear segment's
+    /// label to `to`.
+    fn march(
+        &self,
+        s: &mut State,
+        root: u32,
+        from: u32,
+        to: &[f64],
+        rr: usize,
+        c: &mut u64,
+    ) -> Option<(u32, ObjectSet)> {
         let mut cur = from;
         for _ in 0..CONNECT_MAX {
             let q_cur = s.goals[cur as usize].q.clone();
-            let d = dist2(&q_cur, &q_v).sqrt();
+            let d = dist2(&q_cur, to).sqrt();
             if d <= TREE_STEP {
-                if let Check::Touches(le) = self.space.check_segment(&q_cur, &q_v, res, &Mode::default(), c) {
-                    s.labels.insert(LabelKey::Edge(ModeKey::Empty, Node::Map(v), Node::Goal(cur)), Some(le));
-                    s.goals[root as usize].links.push((cur, v, rr));
-                }
-                return;
+                return match self.tree_segment(&q_cur, to, c) {
+                    Check::Touches(le) => Some((cur, le)),
+                    Check::Blocked(_) => None,
+                };
             }
-            let q = step_towards(&q_cur, &q_v, d);
-            let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return };
-            let Check::Touches(le) = self.space.check_segment(&q_cur, &q, res, &Mode::default(), c) else { return };
+            let q = step_towards(&q_cur, to, d);
+            let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return None };
+            let Check::Touches(le) = self.tree_segment(&q_cur, &q, c) else { return None };
             cur = add_tree_node(s, root, cur, &q, (l, le), rr);
         }
+        None
+    }
+
+    /// A tree edge's check (the coarse one: a path through the tree is certified when it
+    /// wins, like any other).
+    fn tree_segment(&self, a: &[f64], b: &[f64], c: &mut u64) -> Check {
+        self.space.check_segment(a, b, self.settings.resolution, &Mode::default(), c)
     }
 
     /// The node carried objects are taken to: home itself, or a goal node; or what
@@ -266,13 +293,43 @@ impl<S: Space> RobotPlanner<S> {
     }
 }
 
+/// The node of goal `root`'s tree (the root included) nearest `q`; ties go to the older
+/// node. A k-d tree holds the older nodes and is rebuilt when the newer ones, scanned
+/// one by one, pass a sixteenth of them.
+fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
+    let node = |s: &State, i: usize| if i == 0 { root } else { s.goals[root as usize].tree[i - 1].0 };
+    let n = 1 + s.goals[root as usize].tree.len();
+    let held = s.goals[root as usize].index.as_ref().map_or(0, |x| x.1);
+    if n - held > INDEX_TAIL.max(held / 16) {
+        let flat: Vec<f64> = (0..n).flat_map(|i| s.goals[node(s, i) as usize].q.clone()).collect();
+        let dof = s.goals[root as usize].q.len();
+        s.goals[root as usize].index = Some((KdTree::build(dof, &flat, n), n));
+    }
+    let (mut best, held) = match &s.goals[root as usize].index {
+        Some((kd, held)) => {
+            let near = kd.nearest(q, 1, |_| false).first().map(|&(d, i)| (d, node(s, i as usize)));
+            (near.unwrap_or((f64::INFINITY, root)), *held)
+        }
+        None => ((f64::INFINITY, root), 0),
+    };
+    for i in held..n {
+        let x = node(s, i);
+        let d = dist2(&s.goals[x as usize].q, q);
+        if d < best.0 {
+            best = (d, x);
+        }
+    }
+    best.1
+}
+
 /// The point [`TREE_STEP`] from `a` towards `b` (`b` itself when nearer), `d` being their distance.
 fn step_towards(a: &[f64], b: &[f64], d: f64) -> Vec<f64> {
     let t = (TREE_STEP / d.max(f64::MIN_POSITIVE)).min(1.0);
     a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect()
 }
 
-/// Adds `q` to `root`'s tree under `parent`, with its empty-hand label and its edge's.
+/// Adds `q` to goal `root`'s tree under `parent`, with its empty-hand label and its
+/// edge's.
 fn add_tree_node(s: &mut State, root: u32, parent: u32, q: &[f64], (l, le): (ObjectSet, ObjectSet), rr: usize) -> u32 {
     s.goals.push(GoalNode::new(q));
     let id = (s.goals.len() - 1) as u32;

@@ -17,6 +17,8 @@
 mod goals;
 mod lazy;
 mod shortcut;
+#[cfg(test)]
+mod tests;
 
 use std::collections::{HashMap, HashSet};
 use std::sync::Mutex;

@@ -1,0 +1,105 @@
+//! The searches' A* estimate on graphs the planner builds: no edge of any layer breaks
+//! it, for a configuration target and for a grasp with a drop away from home (three
+//! layers), trees included.
+
+use super::super::layers::build;
+use super::super::space::{Mode, Space};
+use super::{PrmOptions, RobotPlanner};
+use crate::plan::Goal;
+use crate::resolve::{ObjectId, PlannerSettings};
+use crate::world::{Check, Config, GraspConfig, Held, ObjectSet};
+
+/// A 3-D box of configurations with nothing in it: every check is clear.
+struct Open {
+    limits: Vec<(f64, f64)>,
+    home: Vec<f64>,
+    drop: Vec<f64>,
+}
+
+impl Space for Open {
+    fn dof(&self) -> usize {
+        3
+    }
+    fn limits(&self) -> &[(f64, f64)] {
+        &self.limits
+    }
+    fn check(&self, _: &[f64], _: &Mode, checks: &mut u64) -> Check {
+        *checks += 1;
+        Check::free()
+    }
+    fn check_segment(&self, _: &[f64], _: &[f64], _: f64, _: &Mode, checks: &mut u64) -> Check {
+        *checks += 1;
+        Check::free()
+    }
+    fn home(&self) -> &[f64] {
+        &self.home
+    }
+    fn drop_config(&self) -> &[f64] {
+        &self.drop
+    }
+    fn grasps(&self, _: ObjectId) -> Vec<GraspConfig> {
+        let at = |q: [f64; 3]| Config(q.to_vec());
+        vec![GraspConfig { grasp: 0, q_grasp: at([0.8, 0.7, -0.6]), q_pregrasp: at([0.7, 0.7, -0.5]) }]
+    }
+    fn held(&self, o: ObjectId, _: usize, _: &[f64]) -> Held {
+        Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }
+    }
+}
+
+fn planner() -> RobotPlanner<Open> {
+    let space = Open { limits: vec![(-1.0, 1.0); 3], home: vec![0.0; 3], drop: vec![-0.5, 0.2, 0.3] };
+    let settings = PlannerSettings { max_samples: 256, ..PlannerSettings::default() };
+    RobotPlanner::new(space, &settings, &PrmOptions::default(), 0)
+}
+
+/// Every edge: `|h(a) - h(b)| <= len` (both ways, the graphs are undirected), the goal at
+/// zero, and some edge taken up to its bound (the estimate is not trivially loose).
+fn assert_consistent(p: &RobotPlanner<Open>, object: Option<ObjectId>) {
+    let mut checks = 0;
+    let (goals, drop) = match object {
+        Some(o) => {
+            let (goals, _) = p.grasp_goals(o, p.space().grasps(o), &mut checks);
+            (goals, Some(p.drop_node(&mut checks).expect("the drop is clear")))
+        }
+        None => {
+            let q = [0.9, -0.8, 0.7];
+            let (pre, lab) = p.goal_node(&q, &mut checks);
+            let cfg = GraspConfig { grasp: 0, q_grasp: Config(q.to_vec()), q_pregrasp: Config(q.to_vec()) };
+            let pre_set = lab.expect("the goal is clear");
+            (vec![super::GraspGoal { cfg, key: 0, pre, pre_set, approach: ObjectSet::new() }], None)
+        }
+    };
+    assert_eq!(goals.len(), 1);
+    p.ensure_round(3, &mut crate::plan::QueryStats::default(), &mut checks);
+    for g in &goals {
+        p.grow_tree(g.pre, 3, 1, &mut checks);
+    }
+    let k = p.settings.neighbours;
+    let b = p.lock(|s| build(s, 3, k, object, &goals[0], drop, (u32::MAX, true)), &mut checks);
+    let (h, g) = (&b.g.h, &b.g);
+    assert_eq!(h.len(), g.vlab.len());
+    assert_eq!(h[b.goal as usize], 0.0);
+    let mut tight = 0;
+    for (v, adj) in g.adj.iter().enumerate() {
+        for &(w, e) in adj {
+            let slack = g.elen[e as usize] - (h[v] - h[w as usize]);
+            assert!(slack >= -1e-9, "edge {v}-{w}: h {} -> {} over length {}", h[v], h[w as usize], g.elen[e as usize]);
+            tight += usize::from(slack < 1e-9 && g.elen[e as usize] > 0.0);
+        }
+    }
+    assert!(tight > 0, "no edge meets the estimate's bound");
+}
+
+#[test]
+fn the_estimate_holds_on_a_configuration_targets_graph() {
+    let p = planner();
+    assert!(p.query(&Goal::Reach(Config(vec![0.9, -0.8, 0.7]))).result.is_ok());
+    assert_consistent(&p, None);
+}
+
+#[test]
+fn the_estimate_holds_on_a_grasps_three_layers() {
+    let p = planner();
+    assert!(p.query(&Goal::Grasp(ObjectId(0))).result.is_ok());
+    assert_consistent(&p, Some(ObjectId(0)));
+}
