@@ -4,12 +4,14 @@
 //! The planner checks each robot with the others parked at `home`; two robots moving at
 //! once are only ever compared here (and, independently, by the verifier's replay).
 
+use std::cell::RefCell;
+
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::query;
-use parry3d_f64::shape::{Shape, SharedShape};
+use parry3d_f64::shape::Shape;
 
-use super::{Held, World};
+use super::{Held, HeldPart, PosedShape, World};
 use crate::resolve::RobotId;
 
 /// One robot at one instant: its configuration and what it holds.
@@ -20,9 +22,17 @@ pub struct RobotAt<'a> {
     pub held: Option<&'a Held>,
 }
 
-/// Every shape of a robot at an instant, posed in the world frame.
-struct Posed {
-    shapes: Vec<(SharedShape, PPose, Aabb)>,
+/// Reused buffers of [`World::robots_apart`]: each robot's shapes and carried parts,
+/// posed, and the pairs whose boxes are near.
+#[derive(Default)]
+struct Apart {
+    posed: [Vec<PosedShape>; 2],
+    held: [Vec<HeldPart>; 2],
+    near: Vec<(f64, usize, usize)>,
+}
+
+thread_local! {
+    static APART: RefCell<Apart> = RefCell::new(Apart::default());
 }
 
 /// Gap between two boxes (0 when they overlap): never more than the distance between
@@ -45,42 +55,63 @@ pub fn shape_distance(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) ->
 }
 
 impl World {
-    fn posed(&self, at: RobotAt) -> Posed {
-        let mut shapes = Vec::new();
-        let mut out = Vec::new();
-        let flange = self.pose_shapes(at.robot, at.q, at.held, &mut out);
-        shapes.extend(out.into_iter().map(|s| (s.shape, s.pose, s.aabb)));
-        if let Some(h) = at.held {
-            shapes.extend(self.pose_held(h, &flange).into_iter().map(|p| (p.shape, p.pose, p.aabb)));
-        }
-        Posed { shapes }
-    }
-
     /// A lower bound on the distance between two robots and what they carry: exact (the
     /// shapes' own distance) where two shapes' boxes are nearer than `near`, the boxes'
     /// gap elsewhere, and 0 when they touch. A pair of shapes parry3d cannot measure
     /// counts by its boxes' gap, which still bounds the distance from below.
     pub fn robots_apart(&self, a: RobotAt, b: RobotAt, near: f64) -> f64 {
-        let (pa, pb) = (self.posed(a), self.posed(b));
-        let mut best = f64::INFINITY;
-        for (sa, posea, boxa) in &pa.shapes {
-            for (sb, poseb, boxb) in &pb.shapes {
-                let gap = aabb_gap(boxa, boxb);
-                if gap >= best {
-                    continue;
+        APART.with(|cell| {
+            let mut s = cell.borrow_mut();
+            let Apart { posed, held, near: pairs } = &mut *s;
+            for (k, at) in [a, b].into_iter().enumerate() {
+                let flange = self.pose_shapes(at.robot, at.q, at.held, &mut posed[k]);
+                match at.held {
+                    Some(h) => self.pose_held_into(h, &flange, &mut held[k]),
+                    None => held[k].clear(),
                 }
-                let d = if gap >= near {
-                    gap
-                } else {
-                    shape_distance(posea, &*sa.0, poseb, &*sb.0).map_or(gap, |d| d.max(gap))
+            }
+            let shapes = |k: usize| {
+                let robot = posed[k].iter().map(|s| (&*s.shape.0, &s.pose, &s.aabb));
+                robot.chain(held[k].iter().map(|p| (&*p.shape.0, &p.pose, &p.aabb)))
+            };
+            // The answer is the least over all pairs of shapes of the pair's value: its
+            // boxes' gap when that is at least `near`, else its distance (never below
+            // the gap). A value is never below its gap, so measuring the near pairs in
+            // order of gap and stopping at the first gap no less than the best so far
+            // gives the same least value with fewer distance queries.
+            let mut best = f64::INFINITY;
+            pairs.clear();
+            for (i, (_, _, boxa)) in shapes(0).enumerate() {
+                for (j, (_, _, boxb)) in shapes(1).enumerate() {
+                    let gap = aabb_gap(boxa, boxb);
+                    if gap >= near {
+                        best = best.min(gap);
+                    } else {
+                        pairs.push((gap, i, j));
+                    }
+                }
+            }
+            pairs.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
+            for &(gap, i, j) in pairs.iter() {
+                if gap >= best {
+                    break;
+                }
+                let nth = |k: usize, n: usize| match posed[k].get(n) {
+                    Some(s) => (&*s.shape.0, &s.pose),
+                    None => {
+                        let p = &held[k][n - posed[k].len()];
+                        (&*p.shape.0, &p.pose)
+                    }
                 };
+                let ((sa, posea), (sb, poseb)) = (nth(0, i), nth(1, j));
+                let d = shape_distance(posea, sa, poseb, sb).map_or(gap, |d| d.max(gap));
                 best = best.min(d);
                 if best <= 0.0 {
                     return 0.0;
                 }
             }
-        }
-        best
+            best
+        })
     }
 }
 
