@@ -114,14 +114,18 @@ impl World {
         let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
         LINKS.with(|cell| {
-            let mut links = cell.borrow_mut();
+            let mut scratch = cell.borrow_mut();
+            let (links, world) = &mut *scratch;
             links.clear();
             links.resize(m.chain.links.len(), Isometry3::identity());
-            m.chain.fk_into(q, &mut links);
+            m.chain.fk_into(q, links);
+            // Each link's world pose once, not once per shape on it (the same values).
+            world.clear();
+            world.extend(links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
             let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
             let posed = |si: usize| {
                 let s = &m.shapes[si];
-                let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * *m.shape_pose(si, posture);
+                let pose = world[m.bodies[s.body].link] * *m.shape_pose(si, posture);
                 (pose, aabb_of(&*s.placed.shape.0, &pose))
             };
             // The replay poses the same robot at every instant: when `out` already holds
@@ -225,8 +229,9 @@ impl World {
 }
 
 thread_local! {
-    /// Link poses for [`World::pose_shapes`], reused across calls.
-    static LINKS: RefCell<Vec<Isometry3<f64>>> = const { RefCell::new(Vec::new()) };
+    /// Link poses for [`World::pose_shapes`] (from the base, and in the world), reused
+    /// across calls.
+    static LINKS: RefCell<(Vec<Isometry3<f64>>, Vec<PPose>)> = const { RefCell::new((Vec::new(), Vec::new())) };
 }
 
 /// Whether a posed shape is this body's `placed` (the same shared shapes, not equal ones).
