@@ -2,6 +2,7 @@
 //! the joint vectors, find self-collision pairs worth checking, and check that
 //! `home` and `drop` are free.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Isometry3;
@@ -49,7 +50,7 @@ pub(super) struct HandModel {
 pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result<World, Vec<WorldError>> {
     let mut errs = Vec::new();
     let mut meshes = MeshCache::new(loader, opts.mesh_mode);
-    let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
+    let mut ctx = LoadCtx { loader, opts, errs: &mut errs, urdfs: HashMap::new() };
 
     let hands: Vec<Option<HandModel>> = scn.hands.iter().map(|h| ctx.load_hand(&h.urdf, &mut meshes)).collect();
     let mut robots = Vec::new();
@@ -284,7 +285,7 @@ pub fn load_kinematics(
 ) -> Result<RobotKinematics, Vec<WorldError>> {
     let mut errs = Vec::new();
     let mut meshes = MeshCache::new(loader, opts.mesh_mode);
-    let mut ctx = LoadCtx { loader, opts, errs: &mut errs };
+    let mut ctx = LoadCtx { loader, opts, errs: &mut errs, urdfs: HashMap::new() };
     let arm = ctx.load_arm("robot", urdf, flange, &mut meshes);
     match arm {
         Some(Arm { chain, shapes, bodies, .. }) if errs.is_empty() => {
@@ -411,6 +412,10 @@ pub(super) struct LoadCtx<'a> {
     loader: &'a dyn Loader,
     opts: &'a WorldOptions,
     pub(super) errs: &'a mut Vec<WorldError>,
+    /// URDFs parsed so far, by path: two robots of one model (or one hand on two arms)
+    /// read and parse it once. Only successes are kept, so a broken file is reported at
+    /// every use, as before.
+    urdfs: HashMap<PathBuf, Model>,
 }
 
 impl LoadCtx<'_> {
@@ -497,6 +502,9 @@ impl LoadCtx<'_> {
     }
 
     fn load_urdf(&mut self, file: &FileRef) -> Option<Model> {
+        if let Some(m) = self.urdfs.get(&file.path) {
+            return Some(m.clone());
+        }
         let path = file.written.clone();
         let text = match self.loader.read_to_string(&file.path) {
             Ok(t) => t,
@@ -506,7 +514,10 @@ impl LoadCtx<'_> {
             }
         };
         match urdf::parse(&text) {
-            Ok(m) => Some(m),
+            Ok(m) => {
+                self.urdfs.insert(file.path.clone(), m.clone());
+                Some(m)
+            }
             Err(p) => {
                 self.errs.push(match p {
                     UrdfProblem::Parse(reason) => WorldError::UrdfParse { path, reason, span: file.span },
