@@ -111,6 +111,31 @@ impl World {
     /// as they hold `held` (open when empty), written into `out`; returns the flange pose.
     /// Panics if `q.len()` is not [`World::dof`].
     pub fn pose_shapes(&self, r: RobotId, q: &[f64], held: Option<&Held>, out: &mut Vec<PosedShape>) -> Isometry3<f64> {
+        self.pose_shapes_boxed(r, q, held, out, true)
+    }
+
+    /// [`World::pose_shapes`] with each mesh hull's box its local box turned (looser, a
+    /// cuboid's cost) instead of its exact world box (a walk over its vertices: 15 % of a
+    /// mesh robot's whole compile was there). For the replay, whose boxes are only
+    /// broad-phase filters and lower bounds on distances, never a verdict.
+    pub fn pose_shapes_bounded(
+        &self,
+        r: RobotId,
+        q: &[f64],
+        held: Option<&Held>,
+        out: &mut Vec<PosedShape>,
+    ) -> Isometry3<f64> {
+        self.pose_shapes_boxed(r, q, held, out, false)
+    }
+
+    fn pose_shapes_boxed(
+        &self,
+        r: RobotId,
+        q: &[f64],
+        held: Option<&Held>,
+        out: &mut Vec<PosedShape>,
+        exact: bool,
+    ) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
         LINKS.with(|cell| {
@@ -126,7 +151,9 @@ impl World {
             let posed = |si: usize| {
                 let s = &m.shapes[si];
                 let pose = world[m.bodies[s.body].link] * *m.shape_pose(si, posture);
-                (pose, aabb_of(&*s.placed.shape.0, &pose))
+                let aabb =
+                    if exact { aabb_of(&*s.placed.shape.0, &pose) } else { check::moving_aabb(&s.placed, &pose) };
+                (pose, aabb)
             };
             // The replay poses the same robot at every instant: when `out` already holds
             // its shapes, only their poses and boxes change (no reference counting).
