@@ -145,6 +145,82 @@ mod tests {
     use super::*;
     use parry3d_f64::math::Vector;
     use parry3d_f64::shape::Cuboid;
+    use parry3d_f64::shape::SharedShape;
+
+    /// The value `robots_apart` had before it pruned pairs: every pair of shapes, in
+    /// order, measured where its boxes are nearer than `near`.
+    fn every_pair(w: &World, a: RobotAt, b: RobotAt, near: f64) -> f64 {
+        let posed = |at: RobotAt| {
+            let mut robot = Vec::new();
+            let flange = w.pose_shapes(at.robot, at.q, at.held, &mut robot);
+            let mut all: Vec<(SharedShape, PPose, Aabb)> =
+                robot.into_iter().map(|s| (s.shape, s.pose, s.aabb)).collect();
+            if let Some(h) = at.held {
+                all.extend(w.pose_held(h, &flange).into_iter().map(|p| (p.shape, p.pose, p.aabb)));
+            }
+            all
+        };
+        let (pa, pb) = (posed(a), posed(b));
+        let mut best = f64::INFINITY;
+        for (sa, posea, boxa) in &pa {
+            for (sb, poseb, boxb) in &pb {
+                let gap = aabb_gap(boxa, boxb);
+                if gap >= best {
+                    continue;
+                }
+                let d = if gap >= near {
+                    gap
+                } else {
+                    shape_distance(posea, &*sa.0, poseb, &*sb.0).map_or(gap, |d| d.max(gap))
+                };
+                best = best.min(d);
+                if best <= 0.0 {
+                    return 0.0;
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn robots_apart_is_the_least_over_every_pair_bit_for_bit() {
+        use crate::diag::{FsLoader, SourceMap};
+        use crate::resolve::{ObjectId, RobotId};
+        use rand::{RngExt, SeedableRng};
+        // Two arms with hands over a crate, each sometimes carrying a lid.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/split_lid.dcl");
+        let scn = crate::resolve::resolve(&path, &FsLoader, &mut SourceMap::new()).expect("resolves");
+        let w = crate::world::build(&scn, &crate::world::WorldOptions::default(), &FsLoader).expect("builds");
+        let (r0, r1) = (RobotId(0), RobotId(1));
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
+        let mut draw = |r: RobotId| -> Vec<f64> {
+            // Near home half the time, so that the arms come close without always touching.
+            let home = w.home(r).to_vec();
+            let spread = if rng.random::<bool>() { 0.3 } else { 1.0 };
+            w.limits(r)
+                .iter()
+                .zip(&home)
+                .map(|((lo, hi), h)| h + spread * (lo + rng.random::<f64>() * (hi - lo) - h))
+                .collect()
+        };
+        let lid = |r: RobotId, q: &[f64], o: u32| w.held(r, ObjectId(o), 0, q);
+        let (mut touching, mut measured) = (0, 0);
+        for i in 0..400 {
+            let (q0, q1) = (draw(r0), draw(r1));
+            let h0 = (i % 3 == 1).then(|| lid(r0, &q0, 1));
+            let h1 = (i % 4 == 2).then(|| lid(r1, &q1, 2));
+            let a = RobotAt { robot: r0, q: &q0, held: h0.as_ref() };
+            let b = RobotAt { robot: r1, q: &q1, held: h1.as_ref() };
+            for near in [0.1, 0.02, 1.0] {
+                let (fast, slow) = (w.robots_apart(a, b, near), every_pair(&w, a, b, near));
+                assert_eq!(fast.to_bits(), slow.to_bits(), "draw {i}, near {near}: {fast} against {slow}");
+                touching += usize::from(slow == 0.0);
+                measured += usize::from(slow > 0.0 && slow < near);
+            }
+        }
+        // Not vacuous: some draws touch, some are measured by distance, the rest by gap.
+        assert!(touching > 10 && measured > 10, "{touching} touching, {measured} measured");
+    }
 
     #[test]
     fn the_gap_of_boxes_is_the_distance_between_their_nearest_corners() {
