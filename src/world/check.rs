@@ -103,7 +103,7 @@ thread_local! {
 /// mesh robot's check went there); its local box, turned, is looser but costs a cuboid's.
 /// Only a broad-phase filter: the exact tests after it decide, so verdicts do not change.
 #[inline]
-fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
+pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
     if p.shape.0.as_convex_polyhedron().is_some() {
         p.obb.cuboid.compute_aabb(&(*pose * p.obb.centre))
     } else {

@@ -4,10 +4,10 @@
 
 use nalgebra::Isometry3;
 
-use super::build::{HandModel, LoadCtx};
 use super::chain::{Chain, FingerJoint};
 use super::check;
 use super::error::WorldError;
+use super::load::{HandModel, LoadCtx};
 use super::robot::{Posture, RBody, RShape};
 use crate::resolve::{JointValues, Scenario};
 

@@ -17,6 +17,7 @@ mod fingers;
 mod grasps;
 mod ik;
 mod labels;
+mod load;
 mod proximity;
 mod robot;
 mod scene;

@@ -5,6 +5,9 @@
 //! Nothing here is used by the planner; the labelled check ([`super::check`]) stays
 //! its only collision test.
 
+use std::cell::RefCell;
+use std::sync::Arc;
+
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose as PPose;
@@ -108,24 +111,71 @@ impl World {
     /// as they hold `held` (open when empty), written into `out`; returns the flange pose.
     /// Panics if `q.len()` is not [`World::dof`].
     pub fn pose_shapes(&self, r: RobotId, q: &[f64], held: Option<&Held>, out: &mut Vec<PosedShape>) -> Isometry3<f64> {
+        self.pose_shapes_boxed(r, q, held, out, true)
+    }
+
+    /// [`World::pose_shapes`] with each mesh hull's box its local box turned (looser, a
+    /// cuboid's cost) instead of its exact world box (a walk over its vertices: 15 % of a
+    /// mesh robot's whole compile was there). For the replay, whose boxes are only
+    /// broad-phase filters and lower bounds on distances, never a verdict.
+    pub fn pose_shapes_bounded(
+        &self,
+        r: RobotId,
+        q: &[f64],
+        held: Option<&Held>,
+        out: &mut Vec<PosedShape>,
+    ) -> Isometry3<f64> {
+        self.pose_shapes_boxed(r, q, held, out, false)
+    }
+
+    fn pose_shapes_boxed(
+        &self,
+        r: RobotId,
+        q: &[f64],
+        held: Option<&Held>,
+        out: &mut Vec<PosedShape>,
+        exact: bool,
+    ) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
-        let mut links = vec![Isometry3::identity(); m.chain.links.len()];
-        m.chain.fk_into(q, &mut links);
-        out.clear();
-        let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
-        for (si, s) in m.shapes.iter().enumerate() {
-            let pose = to_ppose(&(m.pose_world_base * links[m.bodies[s.body].link])) * *m.shape_pose(si, posture);
-            let aabb = aabb_of(&*s.placed.shape.0, &pose);
-            out.push(PosedShape {
-                body: s.body,
-                shape: s.placed.shape.clone(),
-                eroded: s.placed.eroded.clone(),
-                pose,
-                aabb,
-            });
-        }
-        m.pose_world_base * links[m.chain.flange]
+        LINKS.with(|cell| {
+            let mut scratch = cell.borrow_mut();
+            let (links, world) = &mut *scratch;
+            links.clear();
+            links.resize(m.chain.links.len(), Isometry3::identity());
+            m.chain.fk_into(q, links);
+            // Each link's world pose once, not once per shape on it (the same values).
+            world.clear();
+            world.extend(links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+            let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
+            let posed = |si: usize| {
+                let s = &m.shapes[si];
+                let pose = world[m.bodies[s.body].link] * *m.shape_pose(si, posture);
+                let aabb =
+                    if exact { aabb_of(&*s.placed.shape.0, &pose) } else { check::moving_aabb(&s.placed, &pose) };
+                (pose, aabb)
+            };
+            // The replay poses the same robot at every instant: when `out` already holds
+            // its shapes, only their poses and boxes change (no reference counting).
+            if out.len() == m.shapes.len() && out.iter().zip(&m.shapes).all(|(o, s)| same_shape(o, s.body, &s.placed)) {
+                for (si, o) in out.iter_mut().enumerate() {
+                    (o.pose, o.aabb) = posed(si);
+                }
+            } else {
+                out.clear();
+                for (si, s) in m.shapes.iter().enumerate() {
+                    let (pose, aabb) = posed(si);
+                    out.push(PosedShape {
+                        body: s.body,
+                        shape: s.placed.shape.clone(),
+                        eroded: s.placed.eroded.clone(),
+                        pose,
+                        aabb,
+                    });
+                }
+            }
+            m.pose_world_base * links[m.chain.flange]
+        })
     }
 
     /// The fixed bodies and every removable object at its scenario pose.
@@ -148,14 +198,19 @@ impl World {
 
     /// The carried object's shapes in the world frame, the flange at `pose_world_flange`.
     pub fn pose_held(&self, held: &Held, pose_world_flange: &Isometry3<f64>) -> Vec<HeldPart> {
+        let mut out = Vec::new();
+        self.pose_held_into(held, pose_world_flange, &mut out);
+        out
+    }
+
+    /// [`World::pose_held`] into `out`, reusing its room.
+    pub fn pose_held_into(&self, held: &Held, pose_world_flange: &Isometry3<f64>, out: &mut Vec<HeldPart>) {
         let base = to_ppose(&(pose_world_flange * held.pose_flange_object));
-        self.object_parts[held.object.index()]
-            .iter()
-            .map(|p| {
-                let pose = base * p.pose;
-                HeldPart { shape: p.shape.clone(), eroded: p.eroded.clone(), pose, aabb: aabb_of(&*p.shape.0, &pose) }
-            })
-            .collect()
+        out.clear();
+        out.extend(self.object_parts[held.object.index()].iter().map(|p| {
+            let pose = base * p.pose;
+            HeldPart { shape: p.shape.clone(), eroded: p.eroded.clone(), pose, aabb: aabb_of(&*p.shape.0, &pose) }
+        }));
     }
 
     /// How far from the flange origin a point of the carried object can be.
@@ -198,6 +253,20 @@ impl World {
     pub fn joint_reach(&self, r: RobotId) -> JointReach {
         joint_reach(&self.robots[r.index()])
     }
+}
+
+thread_local! {
+    /// Link poses for [`World::pose_shapes`] (from the base, and in the world), reused
+    /// across calls.
+    static LINKS: RefCell<(Vec<Isometry3<f64>>, Vec<PPose>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Whether a posed shape is this body's `placed` (the same shared shapes, not equal ones).
+fn same_shape(o: &PosedShape, body: usize, placed: &Placed) -> bool {
+    let ptr = |s: &SharedShape| Arc::as_ptr(&s.0) as *const ();
+    o.body == body
+        && ptr(&o.shape) == ptr(&placed.shape)
+        && o.eroded.as_ref().map(ptr) == placed.eroded.as_ref().map(ptr)
 }
 
 /// Distance from the frame's origin to the farthest point of a shape placed in it by `pose`.

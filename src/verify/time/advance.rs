@@ -108,7 +108,11 @@ impl Cell<'_> {
             Thing::Static(e) => &self.statics[e].aabb,
         };
         // Each pair's bound: its last slack less the odometer since, or its boxes' gap
-        // when it has none (both are no more than its free time).
+        // when it has none (both are no more than its free time). The gap, once taken,
+        // is remembered like a measured slack: most pairs are far apart, and walking
+        // their boxes again at every instant was most of this loop's cost. A remembered
+        // gap grows stale (a looser bound), so `measure` takes the gap afresh before it
+        // measures, and remembers it when it proves the pair need not be measured.
         memory.bound.clear();
         let mut least = (f64::INFINITY, usize::MAX);
         for (k, p) in memory.pairs.iter().enumerate() {
@@ -118,7 +122,9 @@ impl Cell<'_> {
             } else if let Some((then, odometer)) = memory.measured[k] {
                 (then - (memory.odometer[p.movers] - odometer)) / speed
             } else {
-                (aabb_gap(aabb(p.a), aabb(p.b)) - p.must) / speed
+                let slack = aabb_gap(aabb(p.a), aabb(p.b)) - p.must;
+                memory.measured[k] = Some((slack, memory.odometer[p.movers]));
+                slack / speed
             };
             if bound < least.0 {
                 least = (bound, k);
@@ -135,6 +141,10 @@ impl Cell<'_> {
             let (a, b) = (side(p.a), side(p.b));
             let gap = aabb_gap(a.aabb, b.aabb);
             if (gap - p.must) / speeds[p.movers] >= *free {
+                // The gap is no more than the pair's slack now; keep the tighter bound.
+                let now = odometer[p.movers];
+                let stale = measured[k].map_or(f64::NEG_INFINITY, |(then, at)| then - (now - at));
+                measured[k] = Some(((gap - p.must).max(stale), now));
                 return;
             }
             // A pair parry cannot measure keeps its gap.

@@ -77,7 +77,7 @@ impl<'w> Cell<'w> {
         s.posed.resize_with(at.len(), Vec::new);
         s.held.resize_with(at.len(), Vec::new);
         for (ri, ra) in at.iter().enumerate() {
-            let flange = w.pose_shapes(RobotId(ri as u32), ra.q, ra.held, &mut s.posed[ri]);
+            let flange = w.pose_shapes_bounded(RobotId(ri as u32), ra.q, ra.held, &mut s.posed[ri]);
             s.held[ri] = ra.held.map(|h| w.pose_held(h, &flange)).unwrap_or_default();
         }
     }
