@@ -125,4 +125,31 @@ mod tests {
             assert_eq!(got, all);
         }
     }
+
+    /// Seven dimensions (an arm's), points on a coarse grid so many distances tie, k from
+    /// one to past the leaf size: the same (distance, index) lists as a linear scan.
+    #[test]
+    fn matches_linear_scan_with_ties_in_seven_dimensions() {
+        let dim = 7;
+        let mut s = 777u64;
+        let mut rnd = |m: u64| {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) % m
+        };
+        for n in [1usize, 5, 9, 17, 300] {
+            let pts: Vec<f64> = (0..n * dim).map(|_| rnd(4) as f64).collect();
+            let tree = KdTree::build(dim, &pts, n);
+            for k in [1, 3, 8, 9, 30] {
+                let q: Vec<f64> = (0..dim).map(|_| rnd(4) as f64).collect();
+                let got = tree.nearest(&q, k, |i| i % 11 == 5);
+                let mut all: Vec<(f64, u32)> = (0..n as u32)
+                    .filter(|i| i % 11 != 5)
+                    .map(|i| (dist2(&pts[i as usize * dim..][..dim], &q), i))
+                    .collect();
+                all.sort_by(cmp);
+                all.truncate(k);
+                assert_eq!(got, all, "n {n} k {k}");
+            }
+        }
+    }
 }
