@@ -257,7 +257,7 @@ fn chosen(var: &str, name: &str) -> bool {
 /// when extending it); `FAMILY_ARMS=Ur5,Tx90` and `FAMILY_FAMILIES=cage,shelf` for some
 /// only. The stored table: `KNOWN_N=10 KNOWN_SEEDS=2 cargo test --release -j1 --test
 /// families -- --ignored --nocapture establish`, then the same with `KNOWN_FROM=10
-/// KNOWN_N=20` (13 minutes each).
+/// KNOWN_N=20` (13 minutes each), extended to 50 (see `known.rs`).
 #[test]
 #[ignore = "a long run: RRT-Connect at 100 000 iterations over every problem"]
 fn establish_known_paths() {
