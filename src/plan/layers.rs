@@ -312,19 +312,22 @@ pub(super) fn build(
         }
     }
     let in_tree: std::collections::HashSet<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
-    for (_, _, extras) in &layers {
-        for &x in extras {
-            if in_tree.contains(&x) {
-                nbrs.entry(x).or_default();
-            } else {
-                // The goal and the first tree nodes: their nearest vertices beside any links.
-                let near = goal_nbrs(s, x, r, k);
-                let e = nbrs.entry(x).or_default();
-                if !near.iter().all(|v| e.contains(v)) {
-                    e.extend(near);
-                    e.sort_unstable();
-                    e.dedup();
-                }
+    // Each node once, though it may be in several layers.
+    let mut done = std::collections::HashSet::new();
+    for x in layers.iter().flat_map(|l| l.2.iter().copied()) {
+        if !done.insert(x) {
+            continue;
+        }
+        if in_tree.contains(&x) {
+            nbrs.entry(x).or_default();
+        } else {
+            // The goal and the first tree nodes: their nearest vertices beside any links.
+            let near = goal_nbrs(s, x, r, k);
+            let e = nbrs.entry(x).or_default();
+            if !near.iter().all(|v| e.contains(v)) {
+                e.extend(near);
+                e.sort_unstable();
+                e.dedup();
             }
         }
     }

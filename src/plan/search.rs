@@ -263,6 +263,14 @@ mod tests {
         Mask::default()
     }
 
+    /// A seeded linear congruential generator: `rnd(m)` is uniform-ish in `0..m`.
+    fn lcg(mut s: u64) -> impl FnMut(u64) -> u64 {
+        move |m| {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) % m
+        }
+    }
+
     /// start 0, goal 3. Short route 0-1-3 touches {0,1}; long route 0-2-4-3 touches {2};
     /// a blocked shortcut 0-3.
     fn diamond() -> LabelGraph {
@@ -354,11 +362,7 @@ mod tests {
     fn brute_force_agreement_on_random_small_graphs() {
         // Exhaustive check: the smallest subset S such that a path exists using only
         // elements whose labels lie in S equals the MCR answer's size.
-        let mut s = 99u64;
-        let mut rnd = |m: u64| {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) % m
-        };
+        let mut rnd = lcg(99);
         for _ in 0..200 {
             let n = 8;
             let mut g = LabelGraph::default();
@@ -391,11 +395,7 @@ mod tests {
     /// the path found is as long as it says.
     #[test]
     fn an_estimate_changes_no_answer() {
-        let mut s = 7u64;
-        let mut rnd = |m: u64| {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) % m
-        };
+        let mut rnd = lcg(7);
         let mut searched = 0;
         for _ in 0..300 {
             let n = 30;
