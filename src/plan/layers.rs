@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 
+use super::chains::{contract, Chain};
 use super::knn::{dist2, KdTree};
 use super::roadmap::Roadmap;
 use super::search::{mask, Found, Lab, LabelGraph, Mask};
@@ -122,6 +123,8 @@ pub(super) struct Built {
     pub(super) vnode: Vec<(u8, Node)>,
     /// Labels of the transition edges (which have no key).
     pub(super) fixed: HashMap<u32, ObjectSet>,
+    /// Edges standing for a run of goal-tree nodes (no key either; see `chains`).
+    pub(super) chains: HashMap<u32, Chain>,
     pub(super) start: u32,
     pub(super) goal: u32,
 }
@@ -165,12 +168,53 @@ pub(super) fn exact_set(s: &State, b: &Built, f: &Found) -> ObjectSet {
         add(lookup(s, b.vkey[v as usize]), b.vrule[v as usize]);
     }
     for &e in &f.edges {
-        match b.ekey[e as usize] {
-            Some(k) => add(lookup(s, k), b.erule[e as usize]),
-            None => add(b.fixed.get(&e).cloned().map(Some), Rule::Plain),
+        match (b.ekey[e as usize], b.chains.get(&e)) {
+            (Some(k), _) => add(lookup(s, k), b.erule[e as usize]),
+            (None, Some(c)) => add(c.label(s), b.erule[e as usize]),
+            (None, None) => add(b.fixed.get(&e).cloned().map(Some), Rule::Plain),
         }
     }
     out
+}
+
+impl Built {
+    /// The (layer, node) of every vertex of a found path, runs of tree nodes the graph
+    /// holds as one edge walked node by node.
+    pub(super) fn path_nodes(&self, f: &Found) -> Vec<(u8, Node)> {
+        let mut out = Vec::with_capacity(f.verts.len());
+        for (i, &v) in f.verts.iter().enumerate() {
+            let (layer, node) = self.vnode[v as usize];
+            out.push((layer, node));
+            if let Some(c) = f.edges.get(i).and_then(|e| self.chains.get(e)) {
+                out.extend(c.walk_from(node).map(|n| (layer, n)));
+            }
+        }
+        out
+    }
+
+    /// The keys a found path's edges are made of (a tree run's parts for its edge).
+    pub(super) fn edge_keys<'a>(&'a self, f: &'a Found) -> impl Iterator<Item = LabelKey> + 'a {
+        f.edges.iter().flat_map(move |e| {
+            let run = self.chains.get(e).map(|c| c.keys.as_slice()).unwrap_or_default();
+            self.ekey[*e as usize].into_iter().chain(run.iter().copied())
+        })
+    }
+
+    /// Labels tree runs again after some of their parts' labels changed (certified);
+    /// returns whether any did.
+    pub(super) fn relabel_chains(&mut self, s: &State, changed: &HashMap<LabelKey, Option<ObjectSet>>) -> bool {
+        let mut any = false;
+        for (&e, c) in &self.chains {
+            if c.keys.iter().any(|k| changed.contains_key(k)) {
+                self.g.elab[e as usize] = match c.label(s) {
+                    Some(l) => self.erule[e as usize].known(l.as_ref()),
+                    None => Lab::Unknown(Mask::default()),
+                };
+                any = true;
+            }
+        }
+        any
+    }
 }
 
 pub(super) fn node_q(s: &State, n: Node) -> &[f64] {
@@ -264,7 +308,8 @@ pub(super) fn goal_nbrs(s: &mut State, id: u32, r: usize, k: usize) -> Vec<u32> 
 }
 
 /// The layered graph of one goal at round `r`; edges blocked, or touching `bound`
-/// objects or more, are left out.
+/// objects or more, are left out. With `trees`, the goal's tree joins the layers the
+/// goal is in, `contracted` (see `chains`) in the empty-hand layers.
 pub(super) fn build(
     s: &mut State,
     r: usize,
@@ -272,7 +317,7 @@ pub(super) fn build(
     object: Option<ObjectId>,
     goal: &GraspGoal,
     drop: Option<Node>,
-    (bound, trees): (u32, bool),
+    (bound, trees, contracted): (u32, bool, bool),
 ) -> Built {
     use ModeKey::{Carry, Empty};
     let pre = goal.pre;
@@ -331,6 +376,21 @@ pub(super) fn build(
             }
         }
     }
+    // Layers in the empty hand see the tree contracted (see `chains`): all its labels
+    // are known there. Carrying, its edges are checked lazily one by one.
+    let mut runs: Vec<Chain> = Vec::new();
+    if contracted && !tree.is_empty() {
+        let lens = |a: u32, b: u32| dist2(&s.goals[a as usize].q, &s.goals[b as usize].q).sqrt();
+        let (kept, chains) = contract(pre, &tree, |x| nbrs.get(&x).is_some_and(|v| !v.is_empty()), lens);
+        let kept: std::collections::HashSet<u32> = kept.into_iter().collect();
+        let whole: std::collections::HashSet<u32> = tree.iter().map(|t| t.0).collect();
+        for (mode, _, extras) in layers.iter_mut() {
+            if *mode == Empty && extras.contains(&pre) {
+                extras.retain(|x| !whole.contains(x) || kept.contains(x));
+            }
+        }
+        runs = chains;
+    }
     let s = &*s;
     let n = s.map.rounds[r].verts as u32;
     let m = s.map.rounds[r].edges;
@@ -342,6 +402,7 @@ pub(super) fn build(
         erule: Vec::new(),
         vnode: Vec::new(),
         fixed: HashMap::new(),
+        chains: HashMap::new(),
         start: 0,
         goal: 0,
     };
@@ -414,7 +475,26 @@ pub(super) fn build(
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
             }
         }
-        if extras.contains(&pre) {
+        if extras.contains(&pre) && mode == Empty && !runs.is_empty() {
+            let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
+            for c in &runs {
+                let (nc, np) = (Node::Goal(c.from), Node::Goal(c.to));
+                if c.interior.is_empty() {
+                    let known = lookup(s, LabelKey::Edge(mode, nc.min(np), nc.max(np)));
+                    add_edge(&mut b, pos[&c.to], pos[&c.from], np, nc, c.len, known);
+                    continue;
+                }
+                // Parts never checked cannot happen in the empty hand; leave such a run out.
+                let lab = c.label(s).map_or(Lab::Blocked, |l| rule.known(l.as_ref()));
+                if lab.bound().is_none_or(|m| m.count() >= bound) {
+                    continue;
+                }
+                let e = b.g.add_edge(pos[&c.to], pos[&c.from], c.len, lab);
+                b.ekey.push(None);
+                b.erule.push(rule);
+                b.chains.insert(e, c.clone());
+            }
+        } else if extras.contains(&pre) {
             let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
             for &(c, p) in &tree {
                 let (nc, np) = (Node::Goal(c), Node::Goal(p));

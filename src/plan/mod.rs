@@ -11,6 +11,7 @@
 //! [`RobotPlanner`] works over any [`Space`] (a robot of a `World` via [`RobotSpace`],
 //! or exact test geometry).
 
+mod chains;
 mod knn;
 mod layers;
 mod mask;

@@ -59,7 +59,7 @@ const NEAR_STREAM: u64 = 0x6e65_6172;
 const NEAR_SIGMA: f64 = 0.02;
 
 /// A standard normal deviate (Box-Muller), from two uniform draws.
-fn normal(rng: &mut ChaCha8Rng) -> f64 {
+pub(crate) fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
     let v: f64 = rng.random();
     (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()

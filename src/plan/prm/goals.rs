@@ -6,17 +6,23 @@ use rand_chacha::ChaCha8Rng;
 
 use super::super::knn::{dist2, KdTree};
 use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node, State};
-use super::super::roadmap::mix;
+use super::super::roadmap::{mix, normal, samples_at};
 use super::super::space::{Mode, Space};
 use super::RobotPlanner;
 use crate::resolve::ObjectId;
 use crate::world::{Blocker, Check, GraspConfig, ObjectSet};
 
-/// Tree growth per round: the first round's attempts, doubling like the roadmap's
-/// samples, shared among the query's goals (at least `TREE_MIN` each).
-const TREE_FIRST: usize = 32;
+/// Tree growth per round: this many extension attempts per roadmap sample the round
+/// draws, so `max_samples` bounds the trees too, shared among the query's goals (at
+/// least `TREE_MIN` each).
+const TREE_PER_SAMPLE: u64 = 8;
 const TREE_MIN: usize = 8;
 const TREE_MAX: usize = 1 << 16;
+/// The share of extensions aimed near a tree node drawn uniformly (see `local_target`);
+/// the rest aim at a uniform sample of the joint space, as RRT's do.
+const TREE_LOCAL: f64 = 0.5;
+/// The spread of those aims: a normal deviate of this many radians per joint.
+const TREE_SIGMA: f64 = 1.0;
 /// Longest step of a tree extension (radians, Euclidean in joint space).
 const TREE_STEP: f64 = 0.3;
 /// Most steps of one connect march (see `RobotPlanner::connect`).
@@ -63,11 +69,12 @@ impl<S: Space> RobotPlanner<S> {
     /// Grows the tree of goal node `root` through round `r`: an RRT-Connect from the goal
     /// with the roadmap as its other tree (see [`Self::connect`]). Its nodes join the
     /// search graphs beside the goal, so a goal inside a narrow place reaches out of it
-    /// before the roadmap is dense there. Round `rr` makes `TREE_FIRST << (rr - 1)`
-    /// extension attempts divided among the query's `share` goals (the object's usable
-    /// grasps, or 1), from an RNG seeded by (seed, goal, rr): the tree is a pure
-    /// function of those, whichever query grows it. Checked under the robot's lock,
-    /// without rayon.
+    /// before the roadmap is dense there. Half its extensions aim at uniform samples,
+    /// half near a node of its own (see [`local_target`]). Round `rr` makes
+    /// [`TREE_PER_SAMPLE`] extension attempts per sample the roadmap draws in that round,
+    /// divided among the query's `share` goals (the object's usable grasps, or 1), from
+    /// an RNG seeded by (seed, goal, rr): the tree is a pure function of those, whichever
+    /// query grows it. Checked under the robot's lock, without rayon.
     pub(super) fn grow_tree(&self, root: u32, r: usize, share: usize, checks: &mut u64) {
         let mut c = 0;
         self.lock(
@@ -78,10 +85,14 @@ impl<S: Space> RobotPlanner<S> {
                 while s.goals[root as usize].tree_rounds < r {
                     let rr = s.goals[root as usize].tree_rounds + 1;
                     let mut rng = ChaCha8Rng::seed_from_u64(mix(&[self.seed, TREE_STREAM, key, rr as u64]));
-                    let attempts = ((TREE_FIRST << (rr - 1).min(16)) / share.max(1)).clamp(TREE_MIN, TREE_MAX);
+                    let (first, max) = (self.opts.first_batch, self.settings.max_samples);
+                    let drawn = samples_at(rr, first, max) - if rr > 1 { samples_at(rr - 1, first, max) } else { 0 };
+                    let attempts = ((TREE_PER_SAMPLE * drawn) as usize / share.max(1)).clamp(TREE_MIN, TREE_MAX);
                     for _ in 0..attempts {
-                        let target: Vec<f64> =
-                            lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect();
+                        let target = match rng.random::<f64>() < TREE_LOCAL {
+                            true => local_target(s, root, &lim, &mut rng),
+                            false => lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect(),
+                        };
                         if let Some(id) = self.extend(s, root, &target, rr, &mut c) {
                             self.connect(s, root, id, rr, &mut c);
                         }
@@ -320,6 +331,20 @@ fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
         }
     }
     best.1
+}
+
+/// An extension's aim near a node of goal `root`'s tree drawn uniformly (the root
+/// included), a normal step of [`TREE_SIGMA`] per joint away, within the limits.
+/// Uniform samples pull a tree's outermost nodes, which in a pocket (a goal behind a
+/// window, inside a cage) face the walls: nearly every such extension fails and the
+/// tree stays a few dozen nodes. Aims drawn per node instead (as EST does) spread the
+/// tree through the pocket until some node sees its way out.
+fn local_target(s: &State, root: u32, lim: &[(f64, f64)], rng: &mut ChaCha8Rng) -> Vec<f64> {
+    let tree = &s.goals[root as usize].tree;
+    let i = (rng.random::<f64>() * (tree.len() + 1) as f64) as usize;
+    let node = if i == 0 { root } else { tree[(i - 1).min(tree.len() - 1)].0 };
+    let q = &s.goals[node as usize].q;
+    q.iter().zip(lim).map(|(v, (lo, hi))| (v + TREE_SIGMA * normal(rng)).clamp(*lo, *hi)).collect()
 }
 
 /// The point [`TREE_STEP`] from `a` towards `b` (`b` itself when nearer), `d` being their distance.

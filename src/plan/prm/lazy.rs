@@ -89,7 +89,9 @@ impl<S: Space> RobotPlanner<S> {
                 if !s.map.home_ok {
                     return Vec::new();
                 }
-                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, (bound, trees))).collect()
+                // Fewest vertices counts a tree's nodes: its graphs keep them all.
+                let shape = (bound, trees, objective == Objective::FewestRemovals);
+                goals.iter().map(|g| build(s, r, self.settings.neighbours, object, g, drop, shape)).collect()
             },
             checks,
         );
@@ -152,7 +154,7 @@ impl<S: Space> RobotPlanner<S> {
                 let mut best: Option<Cand> = None;
                 for (&i, set) in chosen.iter().zip(sets) {
                     let (Some(f), Some(set)) = (&found[i], set) else { continue };
-                    let nodes = f.verts.iter().map(|&v| built[i].vnode[v as usize]).collect();
+                    let nodes = built[i].path_nodes(f);
                     let c = Cand { found: f.clone(), goal: i, nodes, set };
                     let better = best.as_ref().is_none_or(|b| match objective {
                         Objective::FewestRemovals => key(&c) < key(b),
@@ -170,6 +172,14 @@ impl<S: Space> RobotPlanner<S> {
                 if changed.is_empty() {
                     return best;
                 }
+                self.lock(
+                    |s| {
+                        for (b, d) in built.iter_mut().zip(dirty.iter_mut()) {
+                            *d |= b.relabel_chains(s, &changed);
+                        }
+                    },
+                    checks,
+                );
                 for (b, d) in built.iter_mut().zip(dirty.iter_mut()) {
                     for e in 0..b.ekey.len() {
                         if let Some(l) = b.ekey[e].and_then(|k| changed.get(&k)) {
@@ -247,9 +257,7 @@ impl<S: Space> RobotPlanner<S> {
         let jobs: Vec<Job> = self.lock(
             |s| {
                 let mut seen = HashSet::new();
-                f.edges
-                    .iter()
-                    .filter_map(|&e| b.ekey[e as usize])
+                b.edge_keys(f)
                     .filter(|k| {
                         matches!(k, LabelKey::Edge(..) | LabelKey::Approach(..))
                             && !s.certified.contains(k)

@@ -33,6 +33,9 @@ use super::{Answer, Budget, FoundPath, Goal, QueryStats, Unreachable};
 use crate::resolve::{ObjectId, Objective, PlannerSettings};
 use crate::world::{Config, GraspConfig, JointPath, ObjectSet};
 
+/// Rounds in which a search without growing the goal trees comes first (see `run`).
+const SEARCH_FIRST_ROUNDS: usize = 2;
+
 /// Tuning beyond [`PlannerSettings`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct PrmOptions {
@@ -204,14 +207,23 @@ impl<S: Space> RobotPlanner<S> {
                 break;
             }
             // Until a first path is found, trees grown from the goals search their
-            // neighbourhood, where narrow entrances (a cage, a shelf) usually are.
+            // neighbourhood, where narrow entrances (a cage, a shelf) usually are. In the
+            // first rounds, whose graphs are small, the trees grow only when the round's
+            // roadmap with the trees so far finds no path: easy queries skip them.
             let trees = best.is_none() && r > 0;
-            if trees {
-                for g in &live {
-                    self.grow_tree(g.pre, r, goals.len(), checks);
-                }
+            let mut cand = None;
+            if trees && r <= SEARCH_FIRST_ROUNDS {
+                cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks);
             }
-            let cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks).map(|mut c| {
+            if cand.is_none() {
+                if trees {
+                    for g in &live {
+                        self.grow_tree(g.pre, r, goals.len(), checks);
+                    }
+                }
+                cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks);
+            }
+            let cand = cand.map(|mut c| {
                 c.goal = goals.iter().position(|g| g.key == live[c.goal].key).expect("live goal");
                 c
             });

@@ -2,7 +2,7 @@
 //! it, for a configuration target and for a grasp with a drop away from home (three
 //! layers), trees included.
 
-use super::super::layers::build;
+use super::super::layers::{build, node_q};
 use super::super::space::{Mode, Space};
 use super::{PrmOptions, RobotPlanner};
 use crate::plan::Goal;
@@ -75,7 +75,13 @@ fn assert_consistent(p: &RobotPlanner<Open>, object: Option<ObjectId>) {
         p.grow_tree(g.pre, 3, 1, &mut checks);
     }
     let k = p.settings.neighbours;
-    let b = p.lock(|s| build(s, 3, k, object, &goals[0], drop, (u32::MAX, true)), &mut checks);
+    for contracted in [false, true] {
+        let b = p.lock(|s| build(s, 3, k, object, &goals[0], drop, (u32::MAX, true, contracted)), &mut checks);
+        assert_holds(&b);
+    }
+}
+
+fn assert_holds(b: &crate::plan::layers::Built) {
     let (h, g) = (&b.g.h, &b.g);
     assert_eq!(h.len(), g.vlab.len());
     assert_eq!(h[b.goal as usize], 0.0);
@@ -102,4 +108,43 @@ fn the_estimate_holds_on_a_grasps_three_layers() {
     let p = planner();
     assert!(p.query(&Goal::Grasp(ObjectId(0))).result.is_ok());
     assert_consistent(&p, Some(ObjectId(0)));
+}
+
+/// A goal's graph with its tree contracted (see `plan::chains`) answers as the whole tree
+/// does: the same fewest removals and length, along a path of the same nodes once the
+/// runs are walked, on a graph with fewer vertices.
+#[test]
+fn a_contracted_tree_answers_as_the_whole_tree() {
+    let p = planner();
+    let mut checks = 0;
+    let q = [0.9, -0.8, 0.7];
+    let (pre, lab) = p.goal_node(&q, &mut checks);
+    let cfg = GraspConfig { grasp: 0, q_grasp: Config(q.to_vec()), q_pregrasp: Config(q.to_vec()) };
+    let goal = super::GraspGoal { cfg, key: 0, pre, pre_set: lab.expect("clear"), approach: ObjectSet::new() };
+    p.ensure_round(4, &mut crate::plan::QueryStats::default(), &mut checks);
+    p.grow_tree(pre, 4, 1, &mut checks);
+    let k = p.settings.neighbours;
+    let [whole, cut] =
+        [false, true].map(|c| p.lock(|s| build(s, 4, k, None, &goal, None, (u32::MAX, true, c)), &mut 0));
+    assert!(cut.g.vlab.len() < whole.g.vlab.len(), "{} vs {}", cut.g.vlab.len(), whole.g.vlab.len());
+    assert!(!cut.chains.is_empty());
+    // Every vertex of the whole graph as a start: the roadmap's and the kept tree nodes.
+    let mut compared = 0;
+    for (v, node) in whole.vnode.iter().enumerate() {
+        let Some(c) = cut.vnode.iter().position(|n| n == node) else { continue };
+        let a = crate::plan::search::fewest_removals(&whole.g, v as u32, whole.goal, u32::MAX);
+        let b = crate::plan::search::fewest_removals(&cut.g, c as u32, cut.goal, u32::MAX);
+        let (Some(a), Some(b)) = (a, b) else { panic!("{node:?}: found on one graph only") };
+        assert_eq!(a.set, b.set);
+        assert!((a.len - b.len).abs() < 1e-9, "{node:?}: {} vs {}", a.len, b.len);
+        // The walked path: consecutive nodes, adding up to the same length.
+        let walked = cut.path_nodes(&b);
+        let len: f64 = p.lock(
+            |s| walked.windows(2).map(|w| crate::plan::knn::dist2(node_q(s, w[0].1), node_q(s, w[1].1)).sqrt()).sum(),
+            &mut 0,
+        );
+        assert!((len - b.len).abs() < 1e-9, "{node:?}: walked {len} vs {}", b.len);
+        compared += 1;
+    }
+    assert!(compared > 100, "{compared}");
 }
