@@ -206,10 +206,10 @@ impl Built {
         let mut any = false;
         for (&e, c) in &self.chains {
             if c.keys.iter().any(|k| changed.contains_key(k)) {
-                self.g.elab[e as usize] = match c.label(s) {
-                    Some(l) => self.erule[e as usize].known(l.as_ref()),
-                    None => Lab::Unknown(Mask::default()),
-                };
+                // Parts are never unchecked (see `build`); an unknown label here has no key
+                // to check it by, so the run is left out rather than searched as unknown.
+                let rule = self.erule[e as usize];
+                self.g.elab[e as usize] = c.label(s).map_or(Lab::Blocked, |l| rule.known(l.as_ref()));
                 any = true;
             }
         }
