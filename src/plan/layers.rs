@@ -378,8 +378,9 @@ pub(super) fn build(
     }
     // Layers in the empty hand see the tree contracted (see `chains`): all its labels
     // are known there. Carrying, its edges are checked lazily one by one.
+    let cut = contracted && !tree.is_empty();
     let mut runs: Vec<Chain> = Vec::new();
-    if contracted && !tree.is_empty() {
+    if cut {
         let lens = |a: u32, b: u32| dist2(&s.goals[a as usize].q, &s.goals[b as usize].q).sqrt();
         let (kept, chains) = contract(pre, &tree, |x| nbrs.get(&x).is_some_and(|v| !v.is_empty()), lens);
         let kept: std::collections::HashSet<u32> = kept.into_iter().collect();
@@ -475,8 +476,9 @@ pub(super) fn build(
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
             }
         }
-        if extras.contains(&pre) && mode == Empty && !runs.is_empty() {
-            let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
+        let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
+        // The same test as the one that left the runs' interiors out of `extras` above.
+        if extras.contains(&pre) && mode == Empty && cut {
             for c in &runs {
                 let (nc, np) = (Node::Goal(c.from), Node::Goal(c.to));
                 if c.interior.is_empty() {
@@ -495,7 +497,6 @@ pub(super) fn build(
                 b.chains.insert(e, c.clone());
             }
         } else if extras.contains(&pre) {
-            let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
             for &(c, p) in &tree {
                 let (nc, np) = (Node::Goal(c), Node::Goal(p));
                 let len = dist2(&s.goals[c as usize].q, &s.goals[p as usize].q).sqrt();
