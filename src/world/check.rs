@@ -104,7 +104,7 @@ thread_local! {
 /// Only a broad-phase filter: the exact tests after it decide, so verdicts do not change.
 #[inline]
 pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
-    if p.shape.0.as_convex_polyhedron().is_some() {
+    if super::hull::polyhedron(&*p.shape.0).is_some() {
         p.obb.cuboid.compute_aabb(&(*pose * p.obb.centre))
     } else {
         aabb_of(&*p.shape.0, pose)

@@ -61,6 +61,7 @@ fn drawable(s: &dyn Shape) -> Option<Drawable> {
         TypedShape::Ball(b) => Drawable::Sphere { radius: b.radius },
         TypedShape::Capsule(c) => mesh(c.to_trimesh(16, 8)),
         TypedShape::ConvexPolyhedron(c) => mesh(c.to_trimesh()),
+        TypedShape::Custom(c) => mesh(super::hull::polyhedron(c)?.to_trimesh()),
         TypedShape::TriMesh(t) => Drawable::Mesh {
             vertices: t.vertices().iter().map(|p| p.to_array()).collect(),
             triangles: t.indices().to_vec(),

@@ -15,6 +15,7 @@ mod drawing;
 mod error;
 mod fingers;
 mod grasps;
+mod hull;
 mod ik;
 mod labels;
 mod load;

@@ -221,7 +221,7 @@ impl<'l> MeshCache<'l> {
         }
         let mode = self.mode;
         let make = move || match mode {
-            MeshMode::ConvexHull => SharedShape::convex_hull(&vertices)
+            MeshMode::ConvexHull => super::hull::mesh_hull(&vertices, &indices)
                 .ok_or_else(|| "its convex hull is degenerate (flat or empty)".to_string()),
             MeshMode::TriMesh => {
                 if indices.is_empty() {

@@ -1,0 +1,386 @@
+//! A mesh's convex hull whose support function climbs the hull's edges instead of
+//! visiting every vertex.
+//!
+//! parry3d answers a convex polyhedron's support query (the vertex farthest along a
+//! direction) by scanning all its vertices; the TX-90's collision hulls have 300–1 200,
+//! and GJK asks several times per pair: on mesh robots those scans were 40 % of a
+//! planning run. On a convex polyhedron a vertex none of whose neighbours is farther along
+//! the direction is the farthest (the edges at a vertex span the cone the whole hull lies
+//! in), so a climb from a good start reaches it in a few steps. The geometry is parry's
+//! own hull, unchanged; every other query is the polyhedron's.
+
+use parry3d_f64::bounding_volume::{Aabb, BoundingSphere};
+use parry3d_f64::mass_properties::MassProperties;
+use parry3d_f64::math::{Pose as PPose, Real, Vector as PVec};
+use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersection};
+use parry3d_f64::shape::{
+    ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SharedShape, SubShapeId, SupportMap, TypedShape,
+};
+
+/// Directions whose farthest vertices are the climbs' starting points: the axes and the
+/// cube's diagonals.
+const STARTS: usize = 14;
+
+#[derive(Clone)]
+pub(crate) struct Hull {
+    pub poly: ConvexPolyhedron,
+    /// Vertex `v`'s neighbours along the hull's edges: `nbrs[first[v]..first[v + 1]]`.
+    first: Vec<u32>,
+    nbrs: Vec<u32>,
+    start_dirs: [PVec; STARTS],
+    start_vertex: [u32; STARTS],
+}
+
+/// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
+pub(crate) fn mesh_hull(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
+    convex_mesh_shape(points, triangles).or_else(|| hull_shape(&distinct(points)))
+}
+
+/// The points in first-seen order, each once. STL files repeat a vertex for every
+/// triangle that has it (about six times); the hull of the distinct points is the same set
+/// of vertices and faces (checked on every mesh of `../shared/robots`) and takes parry a
+/// third of the time.
+pub(crate) fn distinct(points: &[PVec]) -> Vec<PVec> {
+    let mut seen = std::collections::HashSet::with_capacity_and_hasher(points.len(), BuildBitsHasher::default());
+    points.iter().copied().filter(|p| seen.insert([p.x, p.y, p.z].map(f64::to_bits))).collect()
+}
+
+/// A multiply-rotate hash of a point's bits, mixed at the end: the default SipHash was a
+/// tenth of loading a mesh robot.
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl std::hash::Hasher for BitsHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        // `[u64; 3]` hashes its words as one slice of bytes: take them eight at a time.
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn finish(&self) -> u64 {
+        // splitmix64's finaliser: points read from single precision have 29 zero low bits,
+        // and the table indexes by the low bits.
+        let z = (self.0 ^ (self.0 >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        let z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+}
+
+type BuildBitsHasher = std::hash::BuildHasherDefault<BitsHasher>;
+
+/// The convex hull of `points` as a shape, `None` when it is degenerate (flat or empty).
+pub(crate) fn hull_shape(points: &[PVec]) -> Option<SharedShape> {
+    let (vertices, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+    from_triangles(vertices, &triangles)
+}
+
+/// The hull of a mesh that is its own hull (most collision meshes are): its distinct
+/// vertices and its triangles, without parry's quickhull, which was most of loading a
+/// mesh robot. `None` unless the mesh is closed, one piece of a sphere's topology, faces
+/// outwards, bends outwards at every edge and has no vertex off its triangles; then
+/// every vertex is on the hull and the triangles cover it. Otherwise the caller builds
+/// the hull.
+pub(crate) fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
+    let (vertices, tris) = as_convex_mesh(points, triangles)?;
+    from_triangles(vertices, &tris)
+}
+
+fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Vec<[u32; 3]>)> {
+    let mut index = std::collections::HashMap::with_capacity_and_hasher(points.len(), BuildBitsHasher::default());
+    let mut vertices = Vec::new();
+    let remap: Vec<u32> = points
+        .iter()
+        .map(|p| {
+            *index.entry(p.to_array().map(f64::to_bits)).or_insert_with(|| {
+                vertices.push(*p);
+                (vertices.len() - 1) as u32
+            })
+        })
+        .collect();
+    let mut tris = Vec::with_capacity(triangles.len());
+    for t in triangles {
+        let t = t.map(|i| remap.get(i as usize).copied());
+        let [Some(a), Some(b), Some(c)] = t else { return None };
+        if a == b || b == c || c == a {
+            return None;
+        }
+        tris.push([a, b, c]);
+    }
+    let (v, f) = (vertices.len(), tris.len());
+    // A closed surface of a sphere's topology: V - E + F = 2 with E = 3F / 2.
+    if v < 4 || f % 2 != 0 || v + f / 2 != 2 + f {
+        return None;
+    }
+    // Every directed edge once, and its reverse once in another triangle: closed,
+    // manifold, consistently wound.
+    let (first, out) = outgoing(v, &tris);
+    let size = {
+        let (lo, hi) = vertices.iter().fold((vertices[0], vertices[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        (hi - lo).length()
+    };
+    let from = |a: u32| &out[first[a as usize] as usize..first[a as usize + 1] as usize];
+    for a in 0..v as u32 {
+        let edges = from(a);
+        // A vertex on no triangle may lie anywhere, inside the hull or out.
+        if edges.is_empty() {
+            return None;
+        }
+        for (i, &(b, t)) in edges.iter().enumerate() {
+            if edges[..i].iter().any(|e| e.0 == b) {
+                return None;
+            }
+            let &(_, t2) = from(b).iter().find(|e| e.0 == a)?;
+            // The other triangle's third vertex must not lie outside this triangle's plane.
+            let [x, y, z] = tris[t as usize].map(|i| vertices[i as usize]);
+            let other = tris[t2 as usize].into_iter().find(|&i| i != a && i != b)?;
+            let n = (y - x).cross(z - x);
+            if n.dot(vertices[other as usize] - x) > 1e-9 * n.length() * size {
+                return None;
+            }
+        }
+    }
+    // Outward: the triangles enclose a positive volume (six times it, from the origin).
+    let volume: f64 = tris
+        .iter()
+        .map(|t| {
+            let [x, y, z] = t.map(|i| vertices[i as usize]);
+            x.dot(y.cross(z))
+        })
+        .sum();
+    if volume.is_nan() || volume <= 0.0 {
+        return None;
+    }
+    Some((vertices, tris))
+}
+
+/// The directed edges `a -> b` of the triangles grouped by `a`, each with its triangle:
+/// those of `a` are `out[first[a]..first[a + 1]]` (a counting sort).
+fn outgoing(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<(u32, u32)>) {
+    let edges = || {
+        triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(i, t)| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a, b, i as u32)))
+    };
+    let mut first = vec![0u32; n + 1];
+    for (a, _, _) in edges() {
+        first[a as usize + 1] += 1;
+    }
+    for v in 0..n {
+        first[v + 1] += first[v];
+    }
+    let mut fill = first.clone();
+    let mut out = vec![(0, 0); first[n] as usize];
+    for (a, b, t) in edges() {
+        out[fill[a as usize] as usize] = (b, t);
+        fill[a as usize] += 1;
+    }
+    (first, out)
+}
+
+/// A hull from its vertices and outward triangles: parry's polyhedron and the edges the
+/// support queries climb.
+fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedShape> {
+    let poly = ConvexPolyhedron::from_convex_mesh(vertices, triangles)?;
+    let n = poly.points().len();
+    // The climb indexes the polyhedron's points with the triangles: same order.
+    if triangles.iter().flatten().any(|&i| i as usize >= n) {
+        return None;
+    }
+    // Both directions of every edge, bucketed by vertex (a counting sort), then each
+    // vertex's few neighbours sorted and deduplicated in place.
+    let edges = || {
+        triangles.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]).flat_map(|(a, b)| [(a, b), (b, a)])
+    };
+    let mut first = vec![0u32; n + 1];
+    for (a, _) in edges() {
+        first[a as usize + 1] += 1;
+    }
+    for v in 0..n {
+        first[v + 1] += first[v];
+    }
+    let mut fill = first.clone();
+    let mut all = vec![0u32; first[n] as usize];
+    for (a, b) in edges() {
+        all[fill[a as usize] as usize] = b;
+        fill[a as usize] += 1;
+    }
+    let mut nbrs = Vec::with_capacity(all.len() / 2);
+    let mut start = 0;
+    for v in 0..n {
+        let own = &mut all[first[v] as usize..first[v + 1] as usize];
+        own.sort_unstable();
+        first[v] = start;
+        let before = nbrs.len();
+        nbrs.extend(own.iter().enumerate().filter(|&(i, x)| i == 0 || own[i - 1] != *x).map(|(_, x)| *x));
+        start += (nbrs.len() - before) as u32;
+    }
+    first[n] = start;
+    let mut start_dirs = [PVec::ZERO; STARTS];
+    let axes = [PVec::X, PVec::Y, PVec::Z, -PVec::X, -PVec::Y, -PVec::Z];
+    start_dirs[..6].copy_from_slice(&axes);
+    for (i, d) in start_dirs[6..].iter_mut().enumerate() {
+        let s = |bit: usize| if i & bit == 0 { 1.0 } else { -1.0 };
+        *d = PVec::new(s(1), s(2), s(4)).normalize();
+    }
+    let start_vertex = start_dirs.map(|d| scan(poly.points(), d) as u32);
+    Some(SharedShape::new(Hull { poly, first, nbrs, start_dirs, start_vertex }))
+}
+
+/// The polyhedron of a hull shape (ours, or parry's own).
+pub(crate) fn polyhedron(s: &dyn Shape) -> Option<&ConvexPolyhedron> {
+    s.as_convex_polyhedron().or_else(|| s.as_shape::<Hull>().map(|h| &h.poly))
+}
+
+/// The first farthest point along `dir`, by scanning every point (parry's own rule).
+fn scan(points: &[PVec], dir: PVec) -> usize {
+    let mut best = 0;
+    let mut best_dot = points[0].dot(dir);
+    for (i, p) in points.iter().enumerate().skip(1) {
+        let d = p.dot(dir);
+        if d > best_dot {
+            (best, best_dot) = (i, d);
+        }
+    }
+    best
+}
+
+impl Hull {
+    /// The index of a vertex farthest along `dir`.
+    #[inline]
+    pub fn support_index(&self, dir: PVec) -> usize {
+        let pts = self.poly.points();
+        let mut s = 0;
+        let mut s_dot = f64::NEG_INFINITY;
+        for (i, d) in self.start_dirs.iter().enumerate() {
+            let x = d.dot(dir);
+            if x > s_dot {
+                (s, s_dot) = (i, x);
+            }
+        }
+        let mut v = self.start_vertex[s] as usize;
+        let mut best = pts[v].dot(dir);
+        loop {
+            let mut next = v;
+            for &u in &self.nbrs[self.first[v] as usize..self.first[v + 1] as usize] {
+                let d = pts[u as usize].dot(dir);
+                if d > best {
+                    (next, best) = (u as usize, d);
+                }
+            }
+            if next == v {
+                match self.off_plateau(v, best, dir) {
+                    Some(u) => (next, best) = (u, pts[u].dot(dir)),
+                    None => return v,
+                }
+            }
+            v = next;
+        }
+    }
+
+    /// A vertex farther along `dir` than `v` next to the plateau of vertices exactly as far
+    /// as `v` around it, if there is one. A vertex inside a flat face (a mesh can have them)
+    /// has only neighbours on that face: seen from the face's far side they all tie, and the
+    /// rim of the face is where the climb goes on.
+    #[cold]
+    fn off_plateau(&self, v: usize, level: f64, dir: PVec) -> Option<usize> {
+        let pts = self.poly.points();
+        let nbrs = |x: usize| self.nbrs[self.first[x] as usize..self.first[x + 1] as usize].iter().map(|&u| u as usize);
+        if !nbrs(v).any(|u| pts[u].dot(dir) == level) {
+            return None;
+        }
+        let mut seen = vec![v];
+        let mut i = 0;
+        while let Some(&x) = seen.get(i) {
+            i += 1;
+            for u in nbrs(x) {
+                let d = pts[u].dot(dir);
+                if d > level {
+                    return Some(u);
+                }
+                if d == level && !seen.contains(&u) {
+                    seen.push(u);
+                }
+            }
+        }
+        None
+    }
+}
+
+impl SupportMap for Hull {
+    #[inline]
+    fn local_support_point(&self, dir: PVec) -> PVec {
+        self.poly.points()[self.support_index(dir)]
+    }
+}
+
+impl PointQuery for Hull {
+    #[inline]
+    fn project_local_point(&self, pt: PVec, solid: bool) -> PointProjection {
+        self.poly.project_local_point(pt, solid)
+    }
+    #[inline]
+    fn project_local_point_and_get_feature(&self, pt: PVec) -> (PointProjection, FeatureId) {
+        self.poly.project_local_point_and_get_feature(pt)
+    }
+}
+
+impl RayCast for Hull {
+    fn cast_local_ray_and_get_normal(&self, ray: &Ray, max_toi: Real, solid: bool) -> Option<RayIntersection> {
+        self.poly.cast_local_ray_and_get_normal(ray, max_toi, solid)
+    }
+}
+
+impl Shape for Hull {
+    fn compute_local_aabb(&self) -> Aabb {
+        self.poly.compute_local_aabb()
+    }
+    fn compute_local_bounding_sphere(&self) -> BoundingSphere {
+        self.poly.compute_local_bounding_sphere()
+    }
+    fn compute_aabb(&self, position: &PPose) -> Aabb {
+        self.poly.compute_aabb(position)
+    }
+    fn clone_dyn(&self) -> Box<dyn Shape> {
+        Box::new(self.clone())
+    }
+    fn scale_dyn(&self, scale: PVec, num_subdivisions: u32) -> Option<Box<dyn Shape>> {
+        self.poly.scale_dyn(scale, num_subdivisions)
+    }
+    fn mass_properties(&self, density: Real) -> MassProperties {
+        self.poly.mass_properties(density)
+    }
+    fn shape_type(&self) -> ShapeType {
+        ShapeType::Custom
+    }
+    fn as_typed_shape(&self) -> TypedShape<'_> {
+        TypedShape::Custom(self)
+    }
+    fn ccd_thickness(&self) -> Real {
+        self.poly.ccd_thickness()
+    }
+    fn ccd_angular_thickness(&self) -> Real {
+        self.poly.ccd_angular_thickness()
+    }
+    fn is_convex(&self) -> bool {
+        true
+    }
+    fn as_support_map(&self) -> Option<&dyn SupportMap> {
+        Some(self as &dyn SupportMap)
+    }
+    fn as_polygonal_feature_map(&self) -> Option<(&dyn PolygonalFeatureMap, Real)> {
+        self.poly.as_polygonal_feature_map()
+    }
+    fn feature_normal_at_point(&self, subshape: SubShapeId, feature: FeatureId, point: PVec) -> Option<PVec> {
+        self.poly.feature_normal_at_point(subshape, feature, point)
+    }
+}
+
+#[cfg(test)]
+#[path = "hull_tests.rs"]
+mod tests;
