@@ -13,7 +13,7 @@ use std::cell::{Cell, RefCell};
 
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
-use parry3d_f64::math::Pose as PPose;
+use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape;
 use rand::SeedableRng;
@@ -21,7 +21,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
-use super::shapes::{aabb_of, to_ppose, Obb, Placed, CONTACT_TOLERANCE};
+use super::shapes::{aabb_of, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::RobotId;
@@ -104,10 +104,11 @@ thread_local! {
 /// Only a broad-phase filter: the exact tests after it decide, so verdicts do not change.
 #[inline]
 pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
-    if super::hull::polyhedron(&*p.shape.0).is_some() {
-        p.obb.cuboid.compute_aabb(&(*pose * p.obb.centre))
-    } else {
-        aabb_of(&*p.shape.0, pose)
+    match p.boxed {
+        Boxed::Hull => p.obb.cuboid.compute_aabb(&(*pose * p.obb.centre)),
+        // parry's `Ball::aabb`, without asking the shape what it is.
+        Boxed::Ball(r) => Aabb::new(pose.translation + PVec::splat(-r), pose.translation + PVec::splat(r)),
+        Boxed::Other => aabb_of(&*p.shape.0, pose),
     }
 }
 

@@ -39,6 +39,19 @@ pub(crate) struct Placed {
     /// Bounding boxes of the shape and of its eroded form, for the pre-test.
     pub obb: Obb,
     pub eroded_obb: Option<Obb>,
+    /// How its world box is computed, found once: asking the shape its type at every
+    /// check (a dynamic downcast per question) was a few per cent of a sphere robot's.
+    pub boxed: Boxed,
+}
+
+#[derive(Clone, Copy)]
+pub(crate) enum Boxed {
+    /// A mesh hull: its local box, turned (see `check::moving_aabb`).
+    Hull,
+    /// A ball of this radius: the centre give or take it, as parry's own.
+    Ball(f64),
+    /// Anything else: [`aabb_of`].
+    Other,
 }
 
 impl Placed {
@@ -46,7 +59,12 @@ impl Placed {
         let eroded = erode(&shape, CONTACT_TOLERANCE);
         let obb = Obb::of(&*shape.0);
         let eroded_obb = eroded.as_ref().map(|e| Obb::of(&*e.0));
-        Placed { shape, pose, eroded, obb, eroded_obb }
+        let boxed = match (super::hull::polyhedron(&*shape.0), shape.as_ball()) {
+            (Some(_), _) => Boxed::Hull,
+            (None, Some(b)) => Boxed::Ball(b.radius),
+            (None, None) => Boxed::Other,
+        };
+        Placed { shape, pose, eroded, obb, eroded_obb, boxed }
     }
 }
 
