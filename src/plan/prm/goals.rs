@@ -88,7 +88,15 @@ impl<S: Space> RobotPlanner<S> {
                     let (first, max) = (self.opts.first_batch, self.settings.max_samples);
                     let drawn = samples_at(rr, first, max) - if rr > 1 { samples_at(rr - 1, first, max) } else { 0 };
                     let attempts = ((TREE_PER_SAMPLE * drawn) as usize / share.max(1)).clamp(TREE_MIN, TREE_MAX);
+                    let links = s.goals[root as usize].links.len();
                     for _ in 0..attempts {
+                        // In the first rounds, a tree that reaches the roadmap has done its
+                        // round's work: the search that follows may well find the path, and
+                        // an easy query should not pay for the rest. A rule of the tree's
+                        // own, so the tree stays a function of (seed, goal, round).
+                        if rr <= super::SEARCH_FIRST_ROUNDS && s.goals[root as usize].links.len() > links {
+                            break;
+                        }
                         let target = match rng.random::<f64>() < TREE_LOCAL {
                             true => local_target(s, root, &lim, &mut rng),
                             false => lim.iter().map(|(lo, hi)| lo + rng.random::<f64>() * (hi - lo)).collect(),
