@@ -129,11 +129,37 @@ fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     }
     s.body_aabb.clear();
     for b in &m.bodies {
-        let mut aabb = s.shape_aabb[b.shapes.start];
-        for a in &s.shape_aabb[b.shapes.clone()] {
-            aabb.merge(a);
+        s.body_aabb.push(body_box(s, b));
+    }
+}
+
+fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
+    let mut aabb = s.shape_aabb[b.shapes.start];
+    for a in &s.shape_aabb[b.shapes.clone()] {
+        aabb.merge(a);
+    }
+    aabb
+}
+
+/// [`pose_robot`] for the bodies marked only, the fingers open: the others' entries are
+/// left as they were. The self-collision sampling, once most pairs are settled, poses
+/// the few bodies still in question.
+fn pose_bodies(m: &RobotModel, q: &[f64], bodies: &[bool], s: &mut Scratch) {
+    let n = m.chain.links.len();
+    s.links.resize(n, Isometry3::identity());
+    m.chain.fk_into(q, &mut s.links);
+    s.link_pose.clear();
+    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
+    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
+    s.body_aabb.resize(m.bodies.len(), Aabb::new_invalid());
+    for (bi, b) in m.bodies.iter().enumerate().filter(|(bi, _)| bodies[*bi]) {
+        for si in b.shapes.clone() {
+            let pose = s.link_pose[b.link] * *m.shape_pose(si, OPEN);
+            s.shape_aabb[si] = moving_aabb(&m.shapes[si].placed, &pose);
+            s.shape_pose[si] = pose;
         }
-        s.body_aabb.push(aabb);
+        s.body_aabb[bi] = body_box(s, b);
     }
 }
 
@@ -407,14 +433,20 @@ pub(crate) fn self_pairs(
     let mut near = vec![false; pairs.len()];
     let mut s = Scratch::default();
     let mut q = vec![0.0; m.chain.dof()];
+    let mut open = vec![false; m.bodies.len()];
     for _ in 0..samples {
-        if near.iter().zip(&misses).all(|(n, c)| *n && *c >= misses_to_keep) {
+        let settled = |k: usize| near[k] && misses[k] >= misses_to_keep;
+        if (0..pairs.len()).all(settled) {
             break;
         }
         for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
             *v = super::chain::sample_in(&mut rng, *lo, *hi);
         }
-        pose_robot(m, &q, OPEN, &mut s);
+        open.fill(false);
+        for (_, &(a, b)) in pairs.iter().enumerate().filter(|(k, _)| !settled(*k)) {
+            (open[a], open[b]) = (true, true);
+        }
+        pose_bodies(m, &q, &open, &mut s);
         for (k, &(a, b)) in pairs.iter().enumerate() {
             if near[k] && misses[k] >= misses_to_keep {
                 continue;
