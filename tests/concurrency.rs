@@ -82,6 +82,68 @@ fn skipping_ahead_where_nothing_can_come_close_finds_what_every_step_finds() {
     assert!(contacts > 0, "some shifts collide");
 }
 
+/// The replay's free time taken from the pairs whose bounds can matter (queued by when
+/// their bounds run out) against every pair's bound at every instant: the same instants
+/// and the same findings, on split_lid shifted from safe to colliding (as above) and on
+/// every shipped example that solves, at clearances 0 and 2 cm.
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn queued_pairs_skip_to_the_instants_every_pair_gives() {
+    let outcome = |w: &world::World, s: &declutter::schedule::Schedule, clearance: f64, every_pair: bool| {
+        let opts = declutter::verify::Options { every_pair, clearance, ..Default::default() };
+        match declutter::verify::verify_with(w, s, &opts) {
+            Ok(summary) => (summary.samples, Vec::new()),
+            Err(found) => (0, found.iter().map(ToString::to_string).collect::<Vec<_>>()),
+        }
+    };
+    let (w, s) = time_support::compiled("examples/split_lid.dcl");
+    let first = |r: &str| s.actions.iter().find(|a| a.robot == r).expect("an action of each arm").start;
+    let (late, wait) = if first("r2") > first("r1") { ("r2", first("r2")) } else { ("r1", first("r1")) };
+    let mut cases = Vec::new();
+    for k in 0..=10 {
+        let mut shifted = s.clone();
+        shift_earlier(&mut shifted, late, wait, wait * k as f64 / 10.0);
+        cases.push((format!("split_lid shifted {k}0 %"), 0, shifted));
+    }
+    let mut worlds = vec![w];
+    let mut files: Vec<PathBuf> = std::fs::read_dir("examples")
+        .expect("examples/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "dcl"))
+        .collect();
+    files.sort();
+    for path in files {
+        let mut sources = SourceMap::new();
+        let summary = declutter::resolve::check(&path, &FsLoader, &mut sources).expect("example checks");
+        if summary.library {
+            continue;
+        }
+        let scn = declutter::resolve::resolve(&path, &FsLoader, &mut sources).expect("example resolves");
+        let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("example builds");
+        if let Ok(planned) = declutter::driver::plan_verified(&w, &|_| {}) {
+            if planned.schedule.status == Status::Solved {
+                cases.push((path.display().to_string(), worlds.len(), planned.schedule));
+                worlds.push(w);
+            }
+        }
+    }
+    let (mut instants, mut findings) = (0, 0);
+    for (name, wi, s) in &cases {
+        let w = &worlds[*wi];
+        for clearance in [0.0, 0.02] {
+            let (queued, every) = (outcome(w, s, clearance, false), outcome(w, s, clearance, true));
+            assert_eq!(queued, every, "{name} at clearance {clearance}");
+            instants += queued.0;
+            findings += queued.1.len();
+        }
+    }
+    assert!(
+        cases.len() > 15 && instants > 1000 && findings > 0,
+        "{} cases, {instants} instants, {findings} findings",
+        cases.len()
+    );
+}
+
 /// `(example, actions, sequential makespan, concurrent makespan)` of every shipped example
 /// with two or more robots that solves, in file-name order.
 fn makespans() -> Vec<(String, usize, f64, f64)> {

@@ -57,6 +57,7 @@ fn options(velocity: f64, acceleration: f64) -> ReplayOptions {
         clearance: 0.0,
         limits: RateLimits { velocity: vec![vec![velocity; 3]; 2], acceleration: vec![vec![acceleration; 3]; 2] },
         every_step: false,
+        every_pair: false,
     }
 }
 

@@ -47,6 +47,8 @@ pub struct Options {
     pub clearance: f64,
     /// See [`time::ReplayOptions::every_step`].
     pub every_step: bool,
+    /// See [`time::ReplayOptions::every_pair`].
+    pub every_pair: bool,
 }
 
 /// Checks a schedule against the world it claims to solve.
@@ -191,6 +193,7 @@ pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result
             clearance: opts.clearance,
             limits,
             every_step: opts.every_step,
+            every_pair: opts.every_pair,
         };
         let (replayed, found) = time::replay(world, &tl, &opts);
         summary.samples = replayed.samples;

@@ -8,6 +8,9 @@
 //! could set the answer are measured again. The answer is the same as measuring every
 //! pair afresh at every instant: the replay's instants do not change, only their cost.
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
 use super::scene::{Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
@@ -55,6 +58,110 @@ pub(super) struct Memory {
     odometer: Vec<f64>,
     /// Per pair this instant: a lower bound on its free time.
     bound: Vec<f64>,
+    /// Per movers: their pairs' *expiries* (slack plus odometer at the measure: the
+    /// odometer reading at which the bound reaches 0), least first. An entry is current
+    /// while its stamp is its pair's; a measure stamps the pair anew and queues it again.
+    queues: Vec<BinaryHeap<Reverse<Entry>>>,
+    stamp: Vec<u32>,
+    /// Entries taken off the queues this instant, to be put back.
+    taken: Vec<(usize, Entry)>,
+    /// The pairs changed since the last instant: the next one measures them all.
+    fresh: bool,
+    /// Take every pair's bound at every instant, not only the queues' fronts: what the
+    /// queues are tested against.
+    pub every_pair: bool,
+}
+
+/// A queued pair: its expiry (ordered as `f64::total_cmp` orders), index and stamp.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry {
+    expiry: OrdF64,
+    k: u32,
+    stamp: u32,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+struct OrdF64(f64);
+
+impl Eq for OrdF64 {}
+
+impl PartialOrd for OrdF64 {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for OrdF64 {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// How far an expiry computed as `slack + odometer` may stray from the bound's own
+/// arithmetic (`slack - (now - odometer)`): rounding of metres, far below this. Pairs
+/// within it of a threshold are taken and decided by the bound itself.
+const EXPIRY_SLOP: f64 = 1e-9;
+
+impl Memory {
+    /// Pair `k` measured: stamp it and queue its new expiry.
+    fn requeue(&mut self, k: usize) {
+        self.stamp[k] = self.stamp[k].wrapping_add(1);
+        // A pair not measured yet (its movers stood still so far) is taken as soon as they
+        // move, to take its boxes' gap as the full pass does. A NaN bound is never below
+        // anything (the full pass never measures it): last.
+        let expiry = match self.measured[k] {
+            None => f64::NEG_INFINITY,
+            Some((slack, at)) if (slack + at).is_nan() => f64::INFINITY,
+            Some((slack, at)) => slack + at,
+        };
+        let entry = Entry { expiry: OrdF64(expiry), k: k as u32, stamp: self.stamp[k] };
+        self.queues[self.pairs[k].movers].push(Reverse(entry));
+    }
+
+    /// Every pair queued afresh from what it measured (stale entries dropped).
+    fn rebuild_queues(&mut self) {
+        self.queues.clear();
+        self.queues.resize_with(self.movers.len(), BinaryHeap::new);
+        self.stamp.clear();
+        self.stamp.resize(self.pairs.len(), 0);
+        for k in 0..self.pairs.len() {
+            self.requeue(k);
+        }
+    }
+
+    /// What was taken and not measured goes back: as it was, or, a pair first bounded
+    /// this instant, with its boxes' gap.
+    fn put_back(&mut self) {
+        let taken = std::mem::take(&mut self.taken);
+        for &(g, e) in &taken {
+            let k = e.k as usize;
+            if self.stamp[k] != e.stamp {
+                continue;
+            }
+            if e.expiry.0 == f64::NEG_INFINITY && self.measured[k].is_some() {
+                self.requeue(k);
+            } else {
+                self.queues[g].push(Reverse(e));
+            }
+        }
+        self.taken = taken;
+    }
+
+    /// Takes off `g`'s queue, into `taken`, every current entry whose expiry is below
+    /// `limit` (odometer reading), dropping stale ones on the way.
+    fn take_below(&mut self, g: usize, limit: f64) {
+        while let Some(&Reverse(e)) = self.queues[g].peek() {
+            if self.stamp[e.k as usize] != e.stamp {
+                self.queues[g].pop();
+                continue;
+            }
+            if e.expiry.0.partial_cmp(&limit) != Some(std::cmp::Ordering::Less) {
+                return;
+            }
+            self.queues[g].pop();
+            self.taken.push((g, e));
+        }
+    }
 }
 
 impl Cell<'_> {
@@ -97,71 +204,156 @@ impl Cell<'_> {
             memory.speed.push(of(rates));
             memory.odometer.push(of(odometers));
         }
-        let side = |t: Thing| match t {
+        if memory.fresh || memory.every_pair {
+            let free = self.free_time_all(s, memory);
+            if memory.fresh && !memory.every_pair {
+                memory.rebuild_queues();
+            }
+            memory.fresh = false;
+            return free;
+        }
+        self.free_time_queued(s, memory)
+    }
+
+    fn side<'s>(&'s self, s: &'s Scratch, t: Thing) -> Side<'s> {
+        match t {
             Thing::Posed(r, i) => Side::of(&s.posed[r][i]),
             Thing::Held(r, i) => Side::held(&s.held[r][i]),
             Thing::Static(e) => Side::fixed(&self.statics[e]),
-        };
-        let aabb = |t: Thing| match t {
-            Thing::Posed(r, i) => &s.posed[r][i].aabb,
-            Thing::Held(r, i) => &s.held[r][i].aabb,
-            Thing::Static(e) => &self.statics[e].aabb,
-        };
-        // Each pair's bound: its last slack less the odometer since, or its boxes' gap
-        // when it has none (both are no more than its free time). The gap, once taken,
-        // is remembered like a measured slack: most pairs are far apart, and walking
-        // their boxes again at every instant was most of this loop's cost. A remembered
-        // gap grows stale (a looser bound), so `measure` takes the gap afresh before it
-        // measures, and remembers it when it proves the pair need not be measured.
+        }
+    }
+
+    /// Pair `k`'s bound on its free time: its last slack less the odometer since, or its
+    /// boxes' gap when it has none (both are no more than its free time). The gap, once
+    /// taken, is remembered like a measured slack: most pairs are far apart, and walking
+    /// their boxes again at every instant was most of this loop's cost. A remembered gap
+    /// grows stale (a looser bound), so [`Self::measure`] takes the gap afresh before it
+    /// measures, and remembers it when it proves the pair need not be measured.
+    fn bound(&self, s: &Scratch, memory: &mut Memory, k: usize) -> f64 {
+        let p = &memory.pairs[k];
+        let speed = memory.speed[p.movers];
+        if speed <= 0.0 {
+            f64::INFINITY
+        } else if let Some((then, odometer)) = memory.measured[k] {
+            (then - (memory.odometer[p.movers] - odometer)) / speed
+        } else {
+            let slack = aabb_gap(self.side(s, p.a).aabb, self.side(s, p.b).aabb) - p.must;
+            memory.measured[k] = Some((slack, memory.odometer[p.movers]));
+            slack / speed
+        }
+    }
+
+    /// Measures pair `k` (unless its boxes' gap now proves it cannot lower `free`) and
+    /// lowers `free` to its free time.
+    fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
+        let p = &memory.pairs[k];
+        let (a, b) = (self.side(s, p.a), self.side(s, p.b));
+        let (speed, now) = (memory.speed[p.movers], memory.odometer[p.movers]);
+        let gap = aabb_gap(a.aabb, b.aabb);
+        if (gap - p.must) / speed >= *free {
+            // The gap is no more than the pair's slack now; keep the tighter bound.
+            let stale = memory.measured[k].map_or(f64::NEG_INFINITY, |(then, at)| then - (now - at));
+            memory.measured[k] = Some(((gap - p.must).max(stale), now));
+            return;
+        }
+        // A pair parry cannot measure keeps its gap.
+        let d = shape_distance(a.pose, a.shape, b.pose, b.shape).map_or(gap, |d| d.max(gap));
+        memory.measured[k] = Some((d - p.must, now));
+        *free = free.min(((d - p.must) / speed).max(0.0));
+    }
+
+    /// Every pair's bound, the least measured first, then every pair whose bound is below
+    /// the least free time found, in the pairs' order.
+    fn free_time_all(&self, s: &Scratch, memory: &mut Memory) -> f64 {
         memory.bound.clear();
         let mut least = (f64::INFINITY, usize::MAX);
-        for (k, p) in memory.pairs.iter().enumerate() {
-            let speed = memory.speed[p.movers];
-            let bound = if speed <= 0.0 {
-                f64::INFINITY
-            } else if let Some((then, odometer)) = memory.measured[k] {
-                (then - (memory.odometer[p.movers] - odometer)) / speed
-            } else {
-                let slack = aabb_gap(aabb(p.a), aabb(p.b)) - p.must;
-                memory.measured[k] = Some((slack, memory.odometer[p.movers]));
-                slack / speed
-            };
+        for k in 0..memory.pairs.len() {
+            let bound = self.bound(s, memory, k);
             if bound < least.0 {
                 least = (bound, k);
             }
             memory.bound.push(bound);
         }
-        // The pair of least bound measured first, then every pair whose bound is below the
-        // least free time found, unless its boxes' gap now says it cannot be.
         let mut free = f64::INFINITY;
-        let (pairs, speeds, odometer) = (&memory.pairs, &memory.speed, &memory.odometer);
-        let measured = &mut memory.measured;
-        let mut measure = |k: usize, free: &mut f64| {
-            let p = &pairs[k];
-            let (a, b) = (side(p.a), side(p.b));
-            let gap = aabb_gap(a.aabb, b.aabb);
-            if (gap - p.must) / speeds[p.movers] >= *free {
-                // The gap is no more than the pair's slack now; keep the tighter bound.
-                let now = odometer[p.movers];
-                let stale = measured[k].map_or(f64::NEG_INFINITY, |(then, at)| then - (now - at));
-                measured[k] = Some(((gap - p.must).max(stale), now));
-                return;
-            }
-            // A pair parry cannot measure keeps its gap.
-            let d = shape_distance(a.pose, a.shape, b.pose, b.shape).map_or(gap, |d| d.max(gap));
-            measured[k] = Some((d - p.must, odometer[p.movers]));
-            *free = free.min(((d - p.must) / speeds[p.movers]).max(0.0));
-        };
         if least.1 != usize::MAX {
-            measure(least.1, &mut free);
+            self.measure(s, memory, least.1, &mut free);
         }
-        for (k, &bound) in memory.bound.iter().enumerate() {
+        for k in 0..memory.pairs.len() {
             if free == 0.0 {
                 break;
             }
-            if bound < free && k != least.1 {
-                measure(k, &mut free);
+            if memory.bound[k] < free && k != least.1 {
+                self.measure(s, memory, k, &mut free);
             }
+        }
+        free
+    }
+
+    /// [`Self::free_time_all`] by the queues: only the pairs whose bound can be the least
+    /// or below the free time are taken off them (give or take [`EXPIRY_SLOP`]), and each
+    /// is decided by its own bound, exactly as the full pass decides it: the same pairs
+    /// are measured, in the same order, and the same free time comes out.
+    fn free_time_queued(&self, s: &Scratch, memory: &mut Memory) -> f64 {
+        memory.taken.clear();
+        let moving: Vec<usize> = (0..memory.movers.len()).filter(|&g| memory.speed[g] > 0.0).collect();
+        // Odometer reading below which a pair of movers `g` may have a bound under `b`.
+        let limit =
+            |m: &Memory, g: usize, b: f64| (b + b.abs() * 1e-9 + 1e-12) * m.speed[g] + m.odometer[g] + EXPIRY_SLOP;
+        // The pairs not measured yet first: their bounds (boxes' gaps) are taken now.
+        for &g in &moving {
+            memory.take_below(g, f64::MIN);
+        }
+        let mut front = f64::INFINITY;
+        for i in 0..memory.taken.len() {
+            let k = memory.taken[i].1.k as usize;
+            front = front.min(self.bound(s, memory, k));
+        }
+        for &g in &moving {
+            if let Some(Reverse(e)) = memory.queues[g].peek() {
+                front = front.min((e.expiry.0 - memory.odometer[g]) / memory.speed[g]);
+            }
+        }
+        if front == f64::INFINITY || front.is_nan() {
+            memory.put_back();
+            return f64::INFINITY;
+        }
+        for &g in &moving {
+            let lim = limit(memory, g, front);
+            memory.take_below(g, lim);
+        }
+        let mut least = (f64::INFINITY, usize::MAX);
+        for i in 0..memory.taken.len() {
+            let k = memory.taken[i].1.k as usize;
+            let b = self.bound(s, memory, k);
+            if b < least.0 || (b == least.0 && b < f64::INFINITY && k < least.1) {
+                least = (b, k);
+            }
+        }
+        let mut free = f64::INFINITY;
+        if least.1 != usize::MAX {
+            self.measure(s, memory, least.1, &mut free);
+            memory.requeue(least.1);
+            for &g in &moving {
+                let lim = limit(memory, g, free);
+                memory.take_below(g, lim);
+            }
+        }
+        let mut candidates: Vec<usize> =
+            memory.taken.iter().map(|(_, e)| e.k as usize).filter(|&k| k != least.1).collect();
+        candidates.sort_unstable();
+        for k in candidates {
+            if free == 0.0 {
+                break;
+            }
+            if self.bound(s, memory, k) < free {
+                self.measure(s, memory, k, &mut free);
+                memory.requeue(k);
+            }
+        }
+        memory.put_back();
+        let queued: usize = memory.queues.iter().map(BinaryHeap::len).sum();
+        if queued > 4 * memory.pairs.len() + 64 {
+            memory.rebuild_queues();
         }
         free
     }
@@ -229,5 +421,6 @@ impl Cell<'_> {
         }
         memory.measured.clear();
         memory.measured.resize(memory.pairs.len(), None);
+        memory.fresh = true;
     }
 }

@@ -128,6 +128,10 @@ pub struct ReplayOptions {
     /// that nothing can come too close before a later one: slower, and what the skipping
     /// is tested against (it finds the same, at the same instants).
     pub every_step: bool,
+    /// Take every pair's bound at every instant when skipping ahead, rather than only the
+    /// pairs whose bounds can matter: slower, and what the faster way is tested against
+    /// (it measures the same pairs and skips to the same instants).
+    pub every_pair: bool,
 }
 
 /// What a replay looked at.
