@@ -6,8 +6,9 @@
 //! and GJK asks several times per pair: on mesh robots those scans were 40 % of a
 //! planning run. On a convex polyhedron a vertex none of whose neighbours is farther along
 //! the direction is the farthest (the edges at a vertex span the cone the whole hull lies
-//! in), so a climb from a good start reaches it in a few steps. The geometry is parry's
-//! own hull, unchanged; every other query is the polyhedron's.
+//! in), so a climb from a good start reaches it in a few steps. The geometry is the
+//! mesh's convex hull, with the vertices parry's quickhull finds (a mesh that is already
+//! convex keeps its own triangles); every other query is parry's polyhedron's.
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingSphere};
 use parry3d_f64::mass_properties::MassProperties;
