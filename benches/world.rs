@@ -41,6 +41,12 @@ fn file(p: PathBuf) -> FileRef {
 
 fn world(objects: usize) -> World {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    world_of(root.join("examples/robots/tx90.urdf"), objects)
+}
+
+/// The same cell with another TX-90 model (the shared package's, whose links are meshes).
+fn world_of(urdf: PathBuf, objects: usize) -> World {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let hand = Hand {
         name: "sah".into(),
         span: Span::default(),
@@ -51,7 +57,7 @@ fn world(objects: usize) -> World {
     let robot = Robot {
         name: "tx90".into(),
         span: Span::default(),
-        urdf: file(root.join("examples/robots/tx90.urdf")),
+        urdf: file(urdf),
         pose_world_base: Pose::identity(),
         hand: Some(HandId(0)),
         flange: None,
@@ -118,9 +124,17 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     c.bench_function(&format!("{tag}ik_tx90_sah_six_solutions"), |b| {
         b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, 6)))
     });
-    for n in [10, 200] {
-        let w = world(n);
-        let qs = configs(&w);
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let meshes = root.join("../shared/robots/tx90/tx90.urdf");
+    let mut cells: Vec<(String, World)> = [10, 200].map(|n| (format!("tx90_sah_table_{n}_objects"), world(n))).into();
+    // The TX-90 of ../shared, its links convex hulls of its collision meshes.
+    if meshes.is_file() {
+        cells.push(("tx90_mesh_sah_table_10_objects".into(), world_of(meshes, 10)));
+    } else {
+        eprintln!("skipped the mesh TX-90: {} is absent", meshes.display());
+    }
+    for (name, w) in &cells {
+        let qs = configs(w);
         let ctx = CheckCtx::new();
         let (mut blocked, mut touching) = (0, 0);
         for q in &qs {
@@ -130,9 +144,9 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
                 _ => {}
             }
         }
-        eprintln!("{n} objects: of {} configurations {blocked} blocked, {touching} touch objects", qs.len());
+        eprintln!("{name}: of {} configurations {blocked} blocked, {touching} touch objects", qs.len());
         let mut i = 0;
-        c.bench_function(&format!("{tag}check_tx90_sah_table_{n}_objects"), |b| {
+        c.bench_function(&format!("{tag}check_{name}"), |b| {
             b.iter(|| {
                 i = (i + 1) % qs.len();
                 black_box(w.check(RobotId(0), black_box(&qs[i]), &ctx))
@@ -141,7 +155,7 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
         // Free configurations only: the full cost of a check that finds nothing fixed.
         let free: Vec<_> = qs.iter().filter(|q| !w.check(RobotId(0), q, &ctx).is_blocked()).cloned().collect();
         let mut j = 0;
-        c.bench_function(&format!("{tag}check_tx90_sah_table_{n}_objects_unblocked"), |b| {
+        c.bench_function(&format!("{tag}check_{name}_unblocked"), |b| {
             b.iter(|| {
                 j = (j + 1) % free.len();
                 black_box(w.check(RobotId(0), black_box(&free[j]), &ctx))
