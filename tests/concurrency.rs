@@ -106,20 +106,7 @@ fn queued_pairs_skip_to_the_instants_every_pair_gives() {
         cases.push((format!("split_lid shifted {k}0 %"), 0, shifted));
     }
     let mut worlds = vec![w];
-    let mut files: Vec<PathBuf> = std::fs::read_dir("examples")
-        .expect("examples/")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "dcl"))
-        .collect();
-    files.sort();
-    for path in files {
-        let mut sources = SourceMap::new();
-        let summary = declutter::resolve::check(&path, &FsLoader, &mut sources).expect("example checks");
-        if summary.library {
-            continue;
-        }
-        let scn = declutter::resolve::resolve(&path, &FsLoader, &mut sources).expect("example resolves");
-        let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("example builds");
+    for (path, w) in example_worlds(1) {
         if let Ok(planned) = declutter::driver::plan_verified(&w, &|_| {}) {
             if planned.schedule.status == Status::Solved {
                 cases.push((path.display().to_string(), worlds.len(), planned.schedule));
@@ -144,9 +131,9 @@ fn queued_pairs_skip_to_the_instants_every_pair_gives() {
     );
 }
 
-/// `(example, actions, sequential makespan, concurrent makespan)` of every shipped example
-/// with two or more robots that solves, in file-name order.
-fn makespans() -> Vec<(String, usize, f64, f64)> {
+/// Every shipped example that is a scenario (not a library) with at least `robots`
+/// robots, and its world, in file-name order.
+fn example_worlds(robots: usize) -> Vec<(PathBuf, world::World)> {
     let mut files: Vec<PathBuf> = std::fs::read_dir("examples")
         .expect("examples/")
         .map(|e| e.expect("entry").path())
@@ -157,11 +144,21 @@ fn makespans() -> Vec<(String, usize, f64, f64)> {
     for path in files {
         let mut sources = SourceMap::new();
         let summary = declutter::resolve::check(&path, &FsLoader, &mut sources).expect("example checks");
-        if summary.library || summary.robots < 2 {
+        if summary.library || summary.robots < robots {
             continue;
         }
         let scn = declutter::resolve::resolve(&path, &FsLoader, &mut sources).expect("example resolves");
         let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("example builds");
+        out.push((path, w));
+    }
+    out
+}
+
+/// `(example, actions, sequential makespan, concurrent makespan)` of every shipped example
+/// with two or more robots that solves, in file-name order.
+fn makespans() -> Vec<(String, usize, f64, f64)> {
+    let mut out = Vec::new();
+    for (path, w) in example_worlds(2) {
         let planned = declutter::driver::plan_verified(&w, &|_| {}).unwrap_or_else(|v| panic!("{v:#?}"));
         if planned.schedule.status != Status::Solved {
             continue;

@@ -115,11 +115,7 @@ pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
 /// Poses and AABBs of every shape of the robot at `q` (world frame), the fingers in
 /// `posture`.
 fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
-    let n = m.chain.links.len();
-    s.links.resize(n, Isometry3::identity());
-    m.chain.fk_into(q, &mut s.links);
-    s.link_pose.clear();
-    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+    pose_links(m, q, s);
     s.shape_pose.clear();
     s.shape_aabb.clear();
     for (si, sh) in m.shapes.iter().enumerate() {
@@ -131,6 +127,14 @@ fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     for b in &m.bodies {
         s.body_aabb.push(body_box(s, b));
     }
+}
+
+/// World poses of the robot's links at `q`.
+fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
+    s.links.resize(m.chain.links.len(), Isometry3::identity());
+    m.chain.fk_into(q, &mut s.links);
+    s.link_pose.clear();
+    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
 }
 
 fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
@@ -145,11 +149,7 @@ fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
 /// left as they were. The self-collision sampling, once most pairs are settled, poses
 /// the few bodies still in question.
 fn pose_bodies(m: &RobotModel, q: &[f64], bodies: &[bool], s: &mut Scratch) {
-    let n = m.chain.links.len();
-    s.links.resize(n, Isometry3::identity());
-    m.chain.fk_into(q, &mut s.links);
-    s.link_pose.clear();
-    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+    pose_links(m, q, s);
     s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
     s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
     s.body_aabb.resize(m.bodies.len(), Aabb::new_invalid());
@@ -434,23 +434,23 @@ pub(crate) fn self_pairs(
     let mut s = Scratch::default();
     let mut q = vec![0.0; m.chain.dof()];
     let mut open = vec![false; m.bodies.len()];
+    let mut live: Vec<usize> = (0..pairs.len()).collect();
     for _ in 0..samples {
-        let settled = |k: usize| near[k] && misses[k] >= misses_to_keep;
-        if (0..pairs.len()).all(settled) {
+        live.retain(|&k| !(near[k] && misses[k] >= misses_to_keep));
+        if live.is_empty() {
             break;
         }
         for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
             *v = super::chain::sample_in(&mut rng, *lo, *hi);
         }
         open.fill(false);
-        for (_, &(a, b)) in pairs.iter().enumerate().filter(|(k, _)| !settled(*k)) {
+        for &k in &live {
+            let (a, b) = pairs[k];
             (open[a], open[b]) = (true, true);
         }
         pose_bodies(m, &q, &open, &mut s);
-        for (k, &(a, b)) in pairs.iter().enumerate() {
-            if near[k] && misses[k] >= misses_to_keep {
-                continue;
-            }
+        for &k in &live {
+            let (a, b) = pairs[k];
             if !near[k] && s.body_aabb[a].loosened(NEAR_MARGIN).intersects(&s.body_aabb[b]) {
                 near[k] = true;
             }

@@ -41,9 +41,24 @@ pub(crate) fn mesh_hull(points: &[PVec], triangles: &[[u32; 3]]) -> Option<Share
 /// triangle that has it (about six times); the hull of the distinct points is the same set
 /// of vertices and faces (checked on every mesh of `../shared/robots`) and takes parry a
 /// third of the time.
-pub(crate) fn distinct(points: &[PVec]) -> Vec<PVec> {
-    let mut seen = std::collections::HashSet::with_capacity_and_hasher(points.len(), BuildBitsHasher::default());
-    points.iter().copied().filter(|p| seen.insert([p.x, p.y, p.z].map(f64::to_bits))).collect()
+fn distinct(points: &[PVec]) -> Vec<PVec> {
+    dedup(points).0
+}
+
+/// The distinct points in first-seen order, and for each point its index among them.
+fn dedup(points: &[PVec]) -> (Vec<PVec>, Vec<u32>) {
+    let mut index = std::collections::HashMap::with_capacity_and_hasher(points.len(), BuildBitsHasher::default());
+    let mut distinct = Vec::new();
+    let remap = points
+        .iter()
+        .map(|p| {
+            *index.entry(p.to_array().map(f64::to_bits)).or_insert_with(|| {
+                distinct.push(*p);
+                (distinct.len() - 1) as u32
+            })
+        })
+        .collect();
+    (distinct, remap)
 }
 
 /// A multiply-rotate hash of a point's bits, mixed at the end: the default SipHash was a
@@ -92,17 +107,7 @@ pub(crate) fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Opti
 }
 
 fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Vec<[u32; 3]>)> {
-    let mut index = std::collections::HashMap::with_capacity_and_hasher(points.len(), BuildBitsHasher::default());
-    let mut vertices = Vec::new();
-    let remap: Vec<u32> = points
-        .iter()
-        .map(|p| {
-            *index.entry(p.to_array().map(f64::to_bits)).or_insert_with(|| {
-                vertices.push(*p);
-                (vertices.len() - 1) as u32
-            })
-        })
-        .collect();
+    let (vertices, remap) = dedup(points);
     let mut tris = Vec::with_capacity(triangles.len());
     for t in triangles {
         let t = t.map(|i| remap.get(i as usize).copied());
@@ -193,35 +198,21 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedS
     if triangles.iter().flatten().any(|&i| i as usize >= n) {
         return None;
     }
-    // Both directions of every edge, bucketed by vertex (a counting sort), then each
-    // vertex's few neighbours sorted and deduplicated in place.
-    let edges = || {
-        triangles.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]).flat_map(|(a, b)| [(a, b), (b, a)])
-    };
-    let mut first = vec![0u32; n + 1];
-    for (a, _) in edges() {
-        first[a as usize + 1] += 1;
-    }
+    // Every edge both ways (the triangles and their reversals), grouped by vertex; each
+    // vertex's few neighbours then sorted and deduplicated.
+    let both: Vec<[u32; 3]> = triangles.iter().flat_map(|t| [*t, [t[0], t[2], t[1]]]).collect();
+    let (mut first, out) = outgoing(n, &both);
+    let mut nbrs = Vec::with_capacity(out.len() / 2);
+    let mut own = Vec::new();
     for v in 0..n {
-        first[v + 1] += first[v];
-    }
-    let mut fill = first.clone();
-    let mut all = vec![0u32; first[n] as usize];
-    for (a, b) in edges() {
-        all[fill[a as usize] as usize] = b;
-        fill[a as usize] += 1;
-    }
-    let mut nbrs = Vec::with_capacity(all.len() / 2);
-    let mut start = 0;
-    for v in 0..n {
-        let own = &mut all[first[v] as usize..first[v + 1] as usize];
+        own.clear();
+        own.extend(out[first[v] as usize..first[v + 1] as usize].iter().map(|e| e.0));
         own.sort_unstable();
-        first[v] = start;
-        let before = nbrs.len();
-        nbrs.extend(own.iter().enumerate().filter(|&(i, x)| i == 0 || own[i - 1] != *x).map(|(_, x)| *x));
-        start += (nbrs.len() - before) as u32;
+        own.dedup();
+        first[v] = nbrs.len() as u32;
+        nbrs.extend_from_slice(&own);
     }
-    first[n] = start;
+    first[n] = nbrs.len() as u32;
     let mut start_dirs = [PVec::ZERO; STARTS];
     let axes = [PVec::X, PVec::Y, PVec::Z, -PVec::X, -PVec::Y, -PVec::Z];
     start_dirs[..6].copy_from_slice(&axes);
