@@ -1,8 +1,6 @@
 //! The planner over a [`World`]: one lazily grown PRMwO roadmap per robot, answering
 //! `findPath` queries for every object and target configuration of that robot.
 
-use std::cell::Cell;
-
 use super::prm::{PrmOptions, RobotPlanner};
 use super::space::{Mode, Space};
 use super::{Answer, Goal, Oracle};
@@ -22,7 +20,7 @@ impl<'w> RobotSpace<'w> {
 }
 
 fn ctx(mode: &Mode) -> CheckCtx {
-    CheckCtx { absent: mode.absent.clone(), held: mode.held.clone(), checks: Cell::new(0) }
+    CheckCtx { absent: mode.absent.clone(), held: mode.held.clone(), ..CheckCtx::default() }
 }
 
 impl Space for RobotSpace<'_> {

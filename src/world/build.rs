@@ -12,6 +12,7 @@ use super::check::{self, CheckCtx};
 use super::error::WorldError;
 use super::fingers::posture;
 use super::load::{push_body, Arm, HandModel, LoadCtx};
+use super::pair_grid::PairGrid;
 use super::robot::{Posture, RobotModel};
 use super::scene::{Entry, Owner, Scene};
 use super::shapes::{MeshCache, MeshMode, Placed};
@@ -29,11 +30,19 @@ pub struct WorldOptions {
     /// Random configurations sampled per robot to find link pairs that always or
     /// never collide (MoveIt setup assistant style); 0 checks every non-adjacent pair.
     pub self_collision_samples: usize,
+    /// Decide the self-collision pairs that turn on one or two joints by a grid of their
+    /// distances first (the same verdicts; off only to compare against the exact tests).
+    pub self_collision_grids: bool,
 }
 
 impl Default for WorldOptions {
     fn default() -> Self {
-        WorldOptions { package_path: Vec::new(), mesh_mode: MeshMode::ConvexHull, self_collision_samples: 2000 }
+        WorldOptions {
+            package_path: Vec::new(),
+            mesh_mode: MeshMode::ConvexHull,
+            self_collision_samples: 2000,
+            self_collision_grids: true,
+        }
     }
 }
 
@@ -100,6 +109,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             shapes,
             bodies,
             self_pairs: Vec::new(),
+            self_grids: Vec::new(),
             allowed_pairs: Vec::new(),
             scene: Scene::new(Vec::new()),
             home: Config(home.unwrap_or_default()),
@@ -186,6 +196,10 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
         allowed.extend(package_allowed[ri].iter().cloned());
         m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
+        m.self_grids = match opts.self_collision_grids {
+            true => m.self_pairs.iter().map(|&(a, b)| PairGrid::new(m, a, b)).collect(),
+            false => m.self_pairs.iter().map(|_| None).collect(),
+        };
         m.allowed_pairs = allowed;
     }
 

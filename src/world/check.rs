@@ -19,6 +19,7 @@ use parry3d_f64::shape::Shape;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
 use super::shapes::{aabb_of, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
@@ -38,6 +39,8 @@ pub struct CheckCtx {
     pub held: Option<Held>,
     /// Incremented once per configuration checked.
     pub checks: Cell<u64>,
+    /// Self-collision pair tests the joint-space grids answered (the exact test skipped).
+    pub grid_apart: Cell<u64>,
 }
 
 impl CheckCtx {
@@ -93,6 +96,8 @@ struct Scratch {
     body_aabb: Vec<Aabb>,
     held_pose: Vec<PPose>,
     held_aabb: Vec<Aabb>,
+    /// The self-collision grids' measurements (see `pair_grid`).
+    grid: Measure,
 }
 
 thread_local! {
@@ -178,15 +183,23 @@ fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: boo
     }
     SCRATCH.with(|cell| {
         let mut s = cell.borrow_mut();
-        pose_robot(m, q, ctx.held.as_ref().map_or(OPEN, |h| h.posture), &mut s);
-        check_posed(w, m, ctx, &mut s, robot_part)
+        let posture = ctx.held.as_ref().map_or(OPEN, |h| h.posture);
+        pose_robot(m, q, posture, &mut s);
+        check_posed(w, m, ctx, &mut s, robot_part, (q, posture))
     })
 }
 
 /// `robot_part: false` leaves out the robot's own bodies (against the scene and each
 /// other) and checks only the carried object: what carrying adds to a configuration
 /// whose empty-hand check is already known.
-fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch, robot_part: bool) -> Check {
+fn check_posed(
+    w: &World,
+    m: &RobotModel,
+    ctx: &CheckCtx,
+    s: &mut Scratch,
+    robot_part: bool,
+    (q, posture): (&[f64], usize),
+) -> Check {
     let held_obj = ctx.held.as_ref().map(|h| h.object);
     let mut labels = ObjectSet::new();
     if robot_part {
@@ -222,9 +235,24 @@ fn check_posed(w: &World, m: &RobotModel, ctx: &CheckCtx, s: &mut Scratch, robot
             }
         }
         // Self-collision.
-        for &(a, b) in &m.self_pairs {
+        for (&(a, b), grid) in m.self_pairs.iter().zip(&m.self_grids) {
             if !s.body_aabb[a].intersects(&s.body_aabb[b]) {
                 continue;
+            }
+            if let Some(g) = grid.as_ref().filter(|g| g.holds_for(posture)) {
+                let grid = &mut s.grid;
+                let apart = g.apart(q, |centre, enough| {
+                    grid.q.clear();
+                    grid.q.extend_from_slice(q);
+                    for &(i, v) in centre {
+                        grid.q[i] = v;
+                    }
+                    body_distance(m, a, b, enough, grid)
+                });
+                if apart {
+                    ctx.grid_apart.set(ctx.grid_apart.get() + 1);
+                    continue;
+                }
             }
             if bodies_collide(m, s, a, b) {
                 return Check::Blocked(Blocker::SelfCollision {

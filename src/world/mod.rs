@@ -19,6 +19,7 @@ mod hull;
 mod ik;
 mod labels;
 mod load;
+mod pair_grid;
 mod proximity;
 mod robot;
 mod scene;

@@ -8,6 +8,7 @@ use parry3d_f64::math::Pose as PPose;
 
 use super::analytic::Analytic;
 use super::chain::{Chain, FingerJoint};
+use super::pair_grid::PairGrid;
 use super::scene::Scene;
 use super::shapes::Placed;
 use super::Config;
@@ -38,6 +39,8 @@ pub(crate) struct RobotModel {
     pub shapes: Vec<RShape>,
     pub bodies: Vec<RBody>,
     pub self_pairs: Vec<(usize, usize)>,
+    /// Per self pair: its joint-space grid of distances, when it has one (see `pair_grid`).
+    pub self_grids: Vec<Option<PairGrid>>,
     /// Link pairs never checked against each other: the scenario's `allow_contact` and the
     /// robot package's own filters (Drake filter groups, SRDF).
     pub allowed_pairs: Vec<(String, String)>,

@@ -1,0 +1,271 @@
+//! A fast first answer for the self-collision pairs that turn on one or two joints: a
+//! wrist's forearm and hand (joints 5 and 6), an elbow's two links (joints 3 and 4). On
+//! the paper's examples those few pairs are nearly every self-pair test that reaches the
+//! exact one: their boxes overlap in almost every configuration, yet they are rarely
+//! closer than a centimetre.
+//!
+//! Such a pair's distance depends on those joints only, so a grid over them can hold it:
+//! each cell remembers the distance at its centre `c`. A joint turned by `δ` moves the
+//! body beyond it by at most `ρ·|δ|`, `ρ` the body's reach from the joint's axis (a sum of
+//! the chain's fixed lengths, so valid whatever the other joints do). So at `q` the pair
+//! is at least `d(c) − Σ ρ_i |q_i − c_i|` apart: when that is positive the exact test
+//! would say "free", and is skipped. Anything nearer goes to the exact test, so verdicts
+//! never change (`tests/fast_check.rs` compares both on 100 000 configurations per robot).
+//!
+//! Cells are measured when first visited, by whichever thread comes first: the value is a
+//! function of the cell alone, so a race only measures it twice.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
+
+use nalgebra::{Isometry3, Vector3};
+use parry3d_f64::math::{Pose as PPose, Vector as PVec};
+
+use super::chain::{Chain, Source};
+use super::proximity::shape_distance;
+use super::robot::RobotModel;
+use super::shapes::{to_ppose, Boxed};
+use super::urdf::Motion;
+use super::OPEN_POSTURE as OPEN;
+
+/// Cells per pair at most (8 bytes each), allocated when the pair first needs one.
+const MAX_CELLS: usize = 4096;
+
+/// No finer than this (metres): the most a cell's offset can add to the bound per joint.
+const MIN_HALF_WIDTH: f64 = 0.001;
+
+/// What the centre's distance must beat the bound by (metres): GJK's own tolerance and
+/// the rounding of forward kinematics are orders of magnitude below it.
+const SLACK: f64 = 1e-4;
+
+/// Cell value: not measured yet.
+const UNKNOWN: u64 = 0;
+
+/// One joint of the grid.
+#[derive(Debug, Clone)]
+struct Dim {
+    /// Index into the configuration.
+    index: usize,
+    lo: f64,
+    width: f64,
+    cells: usize,
+    /// How far the bodies' points can move per radian of this joint (metres).
+    reach: f64,
+}
+
+pub(crate) struct PairGrid {
+    dims: Vec<Dim>,
+    /// The fingers' posture changes neither body: the grid holds for every posture.
+    any_posture: bool,
+    /// A centre this far apart decides its whole cell: no need to measure it closer.
+    enough: f64,
+    cells: OnceLock<Box<[AtomicU64]>>,
+}
+
+impl PairGrid {
+    /// The grid of body pair `(a, b)`, when their relative pose turns on one or two
+    /// revolute joints with finite limits and every shape is convex.
+    pub fn new(m: &RobotModel, a: usize, b: usize) -> Option<PairGrid> {
+        let chain = &m.chain;
+        let (la, lb) = (m.bodies[a].link, m.bodies[b].link);
+        let mut reach: Vec<(usize, f64)> = Vec::new();
+        for (side, body) in [(links_up_to_common(chain, la, lb), a), (links_up_to_common(chain, lb, la), b)] {
+            // `side` runs from the body's link up towards the common ancestor.
+            for (k, &l) in side.iter().enumerate() {
+                let link = &chain.links[l];
+                let (index, mult) = match (link.source, link.motion) {
+                    (Source::Fixed | Source::Frozen(_), _) => continue,
+                    (Source::Active { index, mult, .. }, Motion::Rotate(_)) => (index, mult),
+                    // A sliding joint changes the chain's lengths: no grid.
+                    _ => return None,
+                };
+                let Motion::Rotate(axis) = link.motion else { return None };
+                let below: Vec<usize> = side[..k].iter().rev().copied().collect();
+                let rho = reach_from_axis(m, chain, &axis, &below, body)?;
+                match reach.iter_mut().find(|(i, _)| *i == index) {
+                    Some((_, r)) => *r += mult.abs() * rho,
+                    None => reach.push((index, mult.abs() * rho)),
+                }
+            }
+        }
+        if reach.is_empty() || reach.len() > 2 {
+            return None;
+        }
+        let shapes = || m.bodies[a].shapes.clone().chain(m.bodies[b].shapes.clone());
+        if shapes().any(|si| m.shapes[si].placed.shape.as_support_map().is_none()) {
+            return None;
+        }
+        let ranges: Vec<f64> = reach.iter().map(|&(i, _)| chain.limits[i].1 - chain.limits[i].0).collect();
+        if ranges.iter().any(|r| !(r.is_finite() && *r > 0.0)) || reach.iter().any(|(_, r)| !r.is_finite()) {
+            return None;
+        }
+        // Cells sized so that each joint adds about the same to the bound: half-width h
+        // with Π (ρ_i·range_i / 2h) = MAX_CELLS.
+        let k = reach.len() as i32;
+        let spans: Vec<f64> = reach.iter().zip(&ranges).map(|(&(_, r), w)| r * w).collect();
+        let product: f64 = spans.iter().map(|s| s.max(1e-12)).product();
+        let h = (product / (2f64.powi(k) * MAX_CELLS as f64)).powf(1.0 / k as f64).max(MIN_HALF_WIDTH);
+        let dims: Vec<Dim> = reach
+            .iter()
+            .zip(&ranges)
+            .zip(&spans)
+            .map(|((&(index, r), &range), &span)| {
+                let cells = ((span / (2.0 * h)).ceil() as usize).clamp(1, MAX_CELLS);
+                Dim { index, lo: chain.limits[index].0, width: range / cells as f64, cells, reach: r }
+            })
+            .collect();
+        let same = |si: usize| m.postures.iter().all(|p| p.poses.get(si).is_none_or(|x| *x == *m.shape_pose(si, OPEN)));
+        let any_posture = shapes().all(same);
+        let enough = dims.iter().map(|d| d.reach * d.width / 2.0).sum::<f64>() + 2.0 * SLACK;
+        Some(PairGrid { dims, any_posture, enough, cells: OnceLock::new() })
+    }
+
+    /// Whether the grid may answer for the fingers in `posture`.
+    #[inline]
+    pub fn holds_for(&self, posture: usize) -> bool {
+        posture == OPEN || self.any_posture
+    }
+
+    /// True when the pair is provably apart at `q`. `measure` gets `q` with the grid's
+    /// joints at a cell's centre and returns a lower bound on the pair's distance there,
+    /// exact below the second argument (`None`: cannot say).
+    #[inline]
+    pub fn apart(&self, q: &[f64], measure: impl FnOnce(&[(usize, f64)], f64) -> Option<f64>) -> bool {
+        let mut cell = 0;
+        let mut bound = 0.0;
+        let mut centre = [(0, 0.0); 2];
+        for (k, d) in self.dims.iter().enumerate() {
+            let v = q[d.index];
+            // Clamped: a value a rounding outside the limits still uses the edge cell.
+            let t = (((v - d.lo) / d.width).floor().max(0.0) as usize).min(d.cells - 1);
+            let c = d.lo + (t as f64 + 0.5) * d.width;
+            bound += d.reach * (v - c).abs();
+            cell = cell * d.cells + t;
+            centre[k] = (d.index, c);
+        }
+        let cells = self.cells.get_or_init(|| {
+            let n = self.dims.iter().map(|d| d.cells).product();
+            (0..n).map(|_| AtomicU64::new(UNKNOWN)).collect()
+        });
+        let mut bits = cells[cell].load(Ordering::Relaxed);
+        if bits == UNKNOWN {
+            let d = measure(&centre[..self.dims.len()], self.enough).filter(|d| *d > 0.0).unwrap_or(-1.0);
+            bits = d.to_bits();
+            cells[cell].store(bits, Ordering::Relaxed);
+        }
+        f64::from_bits(bits) - bound > SLACK
+    }
+
+    /// The joints of the grid and their reach (metres per radian), for tests.
+    #[cfg(test)]
+    pub fn reaches(&self) -> Vec<(usize, f64)> {
+        self.dims.iter().map(|d| (d.index, d.reach)).collect()
+    }
+}
+
+/// Links from `from` up to (not including) the common ancestor of `from` and `other`.
+fn links_up_to_common(chain: &Chain, from: usize, other: usize) -> Vec<usize> {
+    let ancestors = |mut l: usize| {
+        let mut out = vec![l];
+        while let Some(p) = chain.links[l].parent {
+            out.push(p);
+            l = p;
+        }
+        out
+    };
+    let theirs = ancestors(other);
+    ancestors(from).into_iter().take_while(|l| !theirs.contains(l)).collect()
+}
+
+/// How far from `axis` (through the origin of the link whose joint it is, in that link's
+/// frame) the shapes of `body` can be, whatever the joints of `below` (the links from that
+/// link's child down to the body's link, in order) do. The first link's offset is fixed
+/// in the joint's frame, so only its part across the axis counts; every later offset and
+/// the body's own reach can point anywhere.
+fn reach_from_axis(m: &RobotModel, chain: &Chain, axis: &Vector3<f64>, below: &[usize], body: usize) -> Option<f64> {
+    let across = |v: Vector3<f64>| (v - axis * axis.dot(&v)).norm();
+    let spheres = m.bodies[body].shapes.clone().map(|si| {
+        let p = &m.shapes[si].placed;
+        let local = p.shape.compute_local_aabb();
+        let pose = m.shape_pose(si, OPEN);
+        let c = *pose * local.center();
+        (Vector3::new(c.x, c.y, c.z), local.half_extents().length())
+    });
+    let r = match below.split_first() {
+        None => spheres.map(|(c, r)| across(c) + r).fold(0.0, f64::max),
+        Some((first, rest)) => {
+            // A frozen slide (an open finger) moves its link's origin by a constant.
+            let offset = |l: usize| {
+                let link = &chain.links[l];
+                match (link.source, link.motion) {
+                    (Source::Frozen(v), Motion::Slide(axis)) => {
+                        link.pose_parent_joint.translation.vector
+                            + link.pose_parent_joint.rotation * (axis.into_inner() * v)
+                    }
+                    _ => link.pose_parent_joint.translation.vector,
+                }
+            };
+            let along: f64 = rest.iter().map(|&l| offset(l).norm()).sum();
+            across(offset(*first)) + along + spheres.map(|(c, r)| c.norm() + r).fold(0.0, f64::max)
+        }
+    };
+    r.is_finite().then_some(r)
+}
+
+/// Reused buffers of [`body_distance`].
+#[derive(Default)]
+pub(crate) struct Measure {
+    /// The configuration with the grid's joints at a cell's centre.
+    pub q: Vec<f64>,
+    links: Vec<Isometry3<f64>>,
+    /// Per body: each shape's index, pose, bounding sphere's centre and radius.
+    posed: [Vec<(usize, PPose, PVec, f64)>; 2],
+}
+
+/// A lower bound on the distance between bodies `a` and `b` (fingers open) at `s.q`, exact
+/// (GJK) where it is below `enough`. `None` when a pair of their shapes cannot be
+/// measured. Each pair of shapes is first bounded by its bounding spheres and, when those
+/// are nearer than `enough` and than the nearest pair so far, by its bounding boxes, and
+/// only then measured.
+pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: &mut Measure) -> Option<f64> {
+    let Measure { q, links, posed } = s;
+    links.resize(m.chain.links.len(), Isometry3::identity());
+    m.chain.fk_into(q, links);
+    for (k, body) in [a, b].into_iter().enumerate() {
+        let link = to_ppose(&links[m.bodies[body].link]);
+        posed[k].clear();
+        posed[k].extend(m.bodies[body].shapes.clone().map(|si| {
+            let placed = &m.shapes[si].placed;
+            let pose = link * *m.shape_pose(si, OPEN);
+            let radius = match placed.boxed {
+                Boxed::Ball(r) => r,
+                _ => placed.obb.cuboid.half_extents.length(),
+            };
+            (si, pose, pose * placed.obb.centre.translation, radius)
+        }));
+    }
+    let mut best = f64::INFINITY;
+    for (si, pi, ci, ri) in &posed[0] {
+        for (sj, pj, cj, rj) in &posed[1] {
+            // Each pair's value is at most its distance; a pair cannot lower the least
+            // once its bound is past it (or past `enough`).
+            let mut gap = ci.distance(*cj) - ri - rj;
+            let (pa, pb) = (&m.shapes[*si].placed, &m.shapes[*sj].placed);
+            if gap >= best.min(enough) || matches!((pa.boxed, pb.boxed), (Boxed::Ball(_), Boxed::Ball(_))) {
+                // Two balls' gap is their distance.
+                best = best.min(gap);
+                continue;
+            }
+            gap = gap.max(pa.obb.gap(pi, &pb.obb, pj));
+            if gap < best.min(enough) {
+                gap = shape_distance(pi, &*pa.shape.0, pj, &*pb.shape.0)?;
+            }
+            best = best.min(gap);
+        }
+    }
+    Some(best)
+}
+
+#[cfg(test)]
+#[path = "pair_grid_tests.rs"]
+mod tests;
