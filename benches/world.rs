@@ -1,6 +1,7 @@
 //! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
-//! removable objects, cycling through 256 seeded random configurations; and the
-//! inverse kinematics of one grasp pose, all solutions.
+//! removable objects, cycling through 256 seeded random configurations (the 10-object
+//! cell also without the check's shortcuts, `_plain`, and with the TX-90 of meshes of
+//! `../shared`); and the inverse kinematics of one grasp pose, all solutions.
 //!
 //! Measured twice: wall time (criterion's default), and the benchmark thread's own
 //! CPU time (`CLOCK_THREAD_CPUTIME_ID`), which is what one core spends per
@@ -41,11 +42,11 @@ fn file(p: PathBuf) -> FileRef {
 
 fn world(objects: usize) -> World {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    world_of(root.join("examples/robots/tx90.urdf"), objects)
+    world_of(root.join("examples/robots/tx90.urdf"), objects, &WorldOptions::default())
 }
 
 /// The same cell with another TX-90 model (the shared package's, whose links are meshes).
-fn world_of(urdf: PathBuf, objects: usize) -> World {
+fn world_of(urdf: PathBuf, objects: usize, opts: &WorldOptions) -> World {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let hand = Hand {
         name: "sah".into(),
@@ -92,7 +93,7 @@ fn world_of(urdf: PathBuf, objects: usize) -> World {
         target: Target::Object { object: ObjectId(0), span: Span::default() },
         planner: PlannerSettings::default(),
     };
-    build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
+    build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
 }
 
 fn configs(w: &World) -> Vec<Vec<f64>> {
@@ -127,9 +128,13 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let meshes = root.join("../shared/robots/tx90/tx90.urdf");
     let mut cells: Vec<(String, World)> = [10, 200].map(|n| (format!("tx90_sah_table_{n}_objects"), world(n))).into();
+    // The same check without its shortcuts (self-collision grids, bodies placed on demand).
+    let plain = WorldOptions { fast_check: false, ..WorldOptions::default() };
+    cells
+        .push(("tx90_sah_table_10_objects_plain".into(), world_of(root.join("examples/robots/tx90.urdf"), 10, &plain)));
     // The TX-90 of ../shared, its links convex hulls of its collision meshes.
     if meshes.is_file() {
-        cells.push(("tx90_mesh_sah_table_10_objects".into(), world_of(meshes, 10)));
+        cells.push(("tx90_mesh_sah_table_10_objects".into(), world_of(meshes, 10, &WorldOptions::default())));
     } else {
         eprintln!("skipped the mesh TX-90: {} is absent", meshes.display());
     }

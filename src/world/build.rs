@@ -30,9 +30,10 @@ pub struct WorldOptions {
     /// Random configurations sampled per robot to find link pairs that always or
     /// never collide (MoveIt setup assistant style); 0 checks every non-adjacent pair.
     pub self_collision_samples: usize,
-    /// Decide the self-collision pairs that turn on one or two joints by a grid of their
-    /// distances first (the same verdicts; off only to compare against the exact tests).
-    pub self_collision_grids: bool,
+    /// The labelled check's shortcuts: self-collision pairs that turn on one or two joints
+    /// decided by a grid of their distances first, and a body's shapes placed only when its
+    /// box is near something. The same verdicts; off only to compare against the plain check.
+    pub fast_check: bool,
 }
 
 impl Default for WorldOptions {
@@ -41,7 +42,7 @@ impl Default for WorldOptions {
             package_path: Vec::new(),
             mesh_mode: MeshMode::ConvexHull,
             self_collision_samples: 2000,
-            self_collision_grids: true,
+            fast_check: true,
         }
     }
 }
@@ -100,6 +101,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
         let analytic = Analytic::detect(&chain);
+        let body_frames = RobotModel::frame_boxes(&bodies, &shapes, &postures);
         robots.push(RobotModel {
             analytic,
             name: r.name.clone(),
@@ -110,6 +112,8 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             bodies,
             self_pairs: Vec::new(),
             self_grids: Vec::new(),
+            body_frames,
+            fast_check: true,
             allowed_pairs: Vec::new(),
             scene: Scene::new(Vec::new()),
             home: Config(home.unwrap_or_default()),
@@ -196,7 +200,8 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
         allowed.extend(package_allowed[ri].iter().cloned());
         m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
-        m.self_grids = match opts.self_collision_grids {
+        m.fast_check = opts.fast_check;
+        m.self_grids = match opts.fast_check {
             true => m.self_pairs.iter().map(|&(a, b)| PairGrid::new(m, a, b)).collect(),
             false => m.self_pairs.iter().map(|_| None).collect(),
         };

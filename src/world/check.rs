@@ -41,6 +41,9 @@ pub struct CheckCtx {
     pub checks: Cell<u64>,
     /// Self-collision pair tests the joint-space grids answered (the exact test skipped).
     pub grid_apart: Cell<u64>,
+    /// Bodies whose shapes were placed, over all checks (every moving one, without the
+    /// fast check).
+    pub bodies_placed: Cell<u64>,
 }
 
 impl CheckCtx {
@@ -94,6 +97,10 @@ struct Scratch {
     shape_pose: Vec<PPose>,
     shape_aabb: Vec<Aabb>,
     body_aabb: Vec<Aabb>,
+    /// Per body: its shapes' entries are this check's (see [`pose_robot`]).
+    body_posed: Vec<bool>,
+    /// The fingers' posture of this check.
+    posture: usize,
     held_pose: Vec<PPose>,
     held_aabb: Vec<Aabb>,
     /// The self-collision grids' measurements (see `pair_grid`).
@@ -117,20 +124,42 @@ pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
     }
 }
 
-/// Poses and AABBs of every shape of the robot at `q` (world frame), the fingers in
-/// `posture`.
+/// The robot's links at `q` and a box around each body (its frame box turned, world
+/// frame), the fingers in `posture`. A body's shapes are placed only when a test needs
+/// them ([`pose_body`]): most bodies of most checks are near nothing, and their boxes
+/// (one per body, not one per shape) say so. The boxes are broad-phase filters only:
+/// every verdict still comes from the shapes' own boxes and the exact tests.
 fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     pose_links(m, q, s);
-    s.shape_pose.clear();
-    s.shape_aabb.clear();
-    for (si, sh) in m.shapes.iter().enumerate() {
-        let pose = s.link_pose[m.bodies[sh.body].link] * *m.shape_pose(si, posture);
-        s.shape_aabb.push(moving_aabb(&sh.placed, &pose));
-        s.shape_pose.push(pose);
-    }
+    s.posture = posture;
+    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
+    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
+    s.body_posed.clear();
+    s.body_posed.resize(m.bodies.len(), false);
     s.body_aabb.clear();
-    for b in &m.bodies {
-        s.body_aabb.push(body_box(s, b));
+    if !m.fast_check {
+        for (bi, b) in m.bodies.iter().enumerate() {
+            pose_body(m, s, bi);
+            s.body_aabb.push(body_box(s, b));
+        }
+        return;
+    }
+    for (b, frame) in m.bodies.iter().zip(&m.body_frames) {
+        s.body_aabb.push(frame.world_aabb(&s.link_pose[b.link]));
+    }
+}
+
+/// Places the shapes of body `bi` for this check, once.
+#[inline]
+fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
+    if std::mem::replace(&mut s.body_posed[bi], true) {
+        return;
+    }
+    let b = &m.bodies[bi];
+    for si in b.shapes.clone() {
+        let pose = s.link_pose[b.link] * *m.shape_pose(si, s.posture);
+        s.shape_aabb[si] = moving_aabb(&m.shapes[si].placed, &pose);
+        s.shape_pose[si] = pose;
     }
 }
 
@@ -185,7 +214,10 @@ fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: boo
         let mut s = cell.borrow_mut();
         let posture = ctx.held.as_ref().map_or(OPEN, |h| h.posture);
         pose_robot(m, q, posture, &mut s);
-        check_posed(w, m, ctx, &mut s, robot_part, (q, posture))
+        let check = check_posed(w, m, ctx, &mut s, robot_part, (q, posture));
+        let placed = s.body_posed.iter().filter(|p| **p).count() as u64;
+        ctx.bodies_placed.set(ctx.bodies_placed.get() + placed);
+        check
     })
 }
 
@@ -208,13 +240,15 @@ fn check_posed(
             if !b.moving {
                 continue;
             }
-            for leaf in m.scene.bvh.intersect_aabb(&s.body_aabb[bi]) {
+            let body_aabb = s.body_aabb[bi];
+            for leaf in m.scene.bvh.intersect_aabb(&body_aabb) {
                 let e = &m.scene.entries[leaf as usize];
                 if let Owner::Object(o) = e.owner {
                     if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
                         continue;
                     }
                 }
+                pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
                     s.shape_aabb[si].intersects(&e.aabb)
                         && collide_moving(&s.shape_pose[si], &m.shapes[si].placed, &e.pose, &*e.shape.0, &e.obb)
@@ -254,6 +288,8 @@ fn check_posed(
                     continue;
                 }
             }
+            pose_body(m, s, a);
+            pose_body(m, s, b);
             if bodies_collide(m, s, a, b) {
                 return Check::Blocked(Blocker::SelfCollision {
                     link_a: m.bodies[a].name.clone(),
@@ -300,6 +336,7 @@ fn check_posed(
                 if b.holds || !s.body_aabb[bi].intersects(&s.held_aabb[pi]) {
                     continue;
                 }
+                pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
                     let other = &m.shapes[si].placed;
                     collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*other.shape.0, &other.obb)

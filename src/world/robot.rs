@@ -10,7 +10,7 @@ use super::analytic::Analytic;
 use super::chain::{Chain, FingerJoint};
 use super::pair_grid::PairGrid;
 use super::scene::Scene;
-use super::shapes::Placed;
+use super::shapes::{Obb, Placed};
 use super::Config;
 use crate::resolve::Pose;
 
@@ -41,6 +41,12 @@ pub(crate) struct RobotModel {
     pub self_pairs: Vec<(usize, usize)>,
     /// Per self pair: its joint-space grid of distances, when it has one (see `pair_grid`).
     pub self_grids: Vec<Option<PairGrid>>,
+    /// Per body: a box in its link's frame holding its shapes in every posture, so that a
+    /// check can bound the body before (or without) placing its shapes.
+    pub body_frames: Vec<Obb>,
+    /// Place a body's shapes only when needed (see `check::pose_robot`); off, every shape is
+    /// placed at every check and a body's box is its shapes' (the plain check, for tests).
+    pub fast_check: bool,
     /// Link pairs never checked against each other: the scenario's `allow_contact` and the
     /// robot package's own filters (Drake filter groups, SRDF).
     pub allowed_pairs: Vec<(String, String)>,
@@ -67,6 +73,25 @@ pub(crate) struct Posture {
 }
 
 impl RobotModel {
+    /// The boxes of [`RobotModel::body_frames`].
+    pub fn frame_boxes(bodies: &[RBody], shapes: &[RShape], postures: &[Posture]) -> Vec<Obb> {
+        bodies
+            .iter()
+            .map(|b| {
+                use parry3d_f64::bounding_volume::BoundingVolume as _;
+                let mut aabb = parry3d_f64::bounding_volume::Aabb::new_invalid();
+                for si in b.shapes.clone() {
+                    let shape = &shapes[si].placed;
+                    let poses = postures.iter().filter_map(|p| p.poses.get(si));
+                    for pose in std::iter::once(&shape.pose).chain(poses) {
+                        aabb.merge(&shape.shape.compute_aabb(pose));
+                    }
+                }
+                Obb::of_aabb(&aabb)
+            })
+            .collect()
+    }
+
     /// Shape `si`'s pose in its body's link frame with the fingers in `posture`.
     #[inline]
     pub fn shape_pose(&self, si: usize, posture: usize) -> &PPose {

@@ -96,12 +96,18 @@ pub(crate) struct Obb {
 
 impl Obb {
     pub fn of(s: &dyn Shape) -> Obb {
-        let aabb = s.compute_local_aabb();
-        Obb {
-            cuboid: Cuboid::new(aabb.half_extents()),
-            centre: PPose::from_translation(aabb.center()),
-            exact: s.as_cuboid().is_some(),
-        }
+        Obb { exact: s.as_cuboid().is_some(), ..Obb::of_aabb(&s.compute_local_aabb()) }
+    }
+
+    /// The box `aabb`, as a cuboid about its centre.
+    pub fn of_aabb(aabb: &Aabb) -> Obb {
+        Obb { cuboid: Cuboid::new(aabb.half_extents()), centre: PPose::from_translation(aabb.center()), exact: false }
+    }
+
+    /// Its world box when its frame stands at `pose`.
+    #[inline]
+    pub fn world_aabb(&self, pose: &PPose) -> Aabb {
+        self.cuboid.compute_aabb(&(*pose * self.centre))
     }
 
     /// False only when the boxes, placed at `p1` and `p2`, are apart.
