@@ -325,9 +325,15 @@ impl Chain {
 
     /// Poses of every link in the base frame, written into `out` (length = number of links).
     pub fn fk_into(&self, q: &[f64], out: &mut [Isometry3<f64>]) {
+        self.fk_from(&Isometry3::identity(), q, out)
+    }
+
+    /// [`Chain::fk_into`] with the root link at `root` (the robot's base in the world):
+    /// every link's world pose without a second product per link.
+    pub fn fk_from(&self, root: &Isometry3<f64>, q: &[f64], out: &mut [Isometry3<f64>]) {
         for (i, l) in self.links.iter().enumerate() {
             out[i] = match l.parent {
-                None => Isometry3::identity(),
+                None => *root,
                 Some(p) => {
                     let mut t = out[p] * l.pose_parent_joint;
                     Self::apply_motion(&mut t, l.motion, Self::joint_value(l.source, q));

@@ -166,9 +166,9 @@ fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
 /// World poses of the robot's links at `q`.
 fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     s.links.resize(m.chain.links.len(), Isometry3::identity());
-    m.chain.fk_into(q, &mut s.links);
+    m.chain.fk_from(&m.pose_world_base, q, &mut s.links);
     s.link_pose.clear();
-    s.link_pose.extend(s.links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+    s.link_pose.extend(s.links.iter().map(to_ppose));
 }
 
 fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
