@@ -15,6 +15,7 @@ use super::load::{push_body, Arm, HandModel, LoadCtx};
 use super::pair_grid::PairGrid;
 use super::robot::{Posture, RobotModel};
 use super::scene::{Entry, Owner, Scene};
+use super::self_pairs;
 use super::shapes::{MeshCache, MeshMode, Placed};
 use super::{Blocker, Check, Config, World};
 use crate::diag::{Loader, Span};
@@ -199,7 +200,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let mut allowed: Vec<(String, String)> =
             scn.robots[ri].allow_contact.iter().map(|p| (p.a.clone(), p.b.clone())).collect();
         allowed.extend(package_allowed[ri].iter().cloned());
-        m.self_pairs = check::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
+        m.self_pairs = self_pairs::self_pairs(m, &allowed, opts.self_collision_samples, ri as u64);
         m.fast_check = opts.fast_check;
         m.self_grids = match opts.fast_check {
             true => m.self_pairs.iter().map(|&(a, b)| PairGrid::new(m, a, b)).collect(),

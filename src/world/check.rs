@@ -16,8 +16,6 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
@@ -91,12 +89,12 @@ fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2:
 
 /// Per-thread buffers, so a check allocates nothing once warm.
 #[derive(Default)]
-struct Scratch {
-    links: Vec<Isometry3<f64>>,
-    link_pose: Vec<PPose>,
-    shape_pose: Vec<PPose>,
-    shape_aabb: Vec<Aabb>,
-    body_aabb: Vec<Aabb>,
+pub(super) struct Scratch {
+    pub(super) links: Vec<Isometry3<f64>>,
+    pub(super) link_pose: Vec<PPose>,
+    pub(super) shape_pose: Vec<PPose>,
+    pub(super) shape_aabb: Vec<Aabb>,
+    pub(super) body_aabb: Vec<Aabb>,
     /// Per body: its shapes' entries are this check's (see [`pose_robot`]).
     body_posed: Vec<bool>,
     /// The fingers' posture of this check.
@@ -164,37 +162,19 @@ fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
 }
 
 /// World poses of the robot's links at `q`.
-fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
+pub(super) fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     s.links.resize(m.chain.links.len(), Isometry3::identity());
     m.chain.fk_from(&m.pose_world_base, q, &mut s.links);
     s.link_pose.clear();
     s.link_pose.extend(s.links.iter().map(to_ppose));
 }
 
-fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
+pub(super) fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {
     let mut aabb = s.shape_aabb[b.shapes.start];
     for a in &s.shape_aabb[b.shapes.clone()] {
         aabb.merge(a);
     }
     aabb
-}
-
-/// [`pose_robot`] for the bodies marked only, the fingers open: the others' entries are
-/// left as they were. The self-collision sampling, once most pairs are settled, poses
-/// the few bodies still in question.
-fn pose_bodies(m: &RobotModel, q: &[f64], bodies: &[bool], s: &mut Scratch) {
-    pose_links(m, q, s);
-    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
-    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
-    s.body_aabb.resize(m.bodies.len(), Aabb::new_invalid());
-    for (bi, b) in m.bodies.iter().enumerate().filter(|(bi, _)| bodies[*bi]) {
-        for si in b.shapes.clone() {
-            let pose = s.link_pose[b.link] * *m.shape_pose(si, OPEN);
-            s.shape_aabb[si] = moving_aabb(&m.shapes[si].placed, &pose);
-            s.shape_pose[si] = pose;
-        }
-        s.body_aabb[bi] = body_box(s, b);
-    }
 }
 
 pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
@@ -350,7 +330,7 @@ fn check_posed(
     Check::Touches(labels)
 }
 
-fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
+pub(super) fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
     m.bodies[a].shapes.clone().any(|i| {
         m.bodies[b].shapes.clone().any(|j| {
             let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
@@ -454,84 +434,6 @@ pub(crate) fn check_motion(
     }
     Check::Touches(out)
 }
-
-/// Body pairs worth checking for self-collision: not both static, not rigidly
-/// joined, not adjacent, not allowed by the scenario, and (when sampling) neither
-/// colliding in nearly every sample nor out of reach: a pair that never collided
-/// is dropped only if its bounding boxes, grown by [`NEAR_MARGIN`], never met
-/// either, so a collision confined to a region the samples missed is still caught.
-pub(crate) fn self_pairs(
-    m: &RobotModel,
-    allowed: &[(String, String)],
-    samples: usize,
-    seed: u64,
-) -> Vec<(usize, usize)> {
-    let links = &m.chain.links;
-    let group = |b: usize| links[m.bodies[b].link].group;
-    let adjacent = |ga: usize, gb: usize| {
-        links[gb].parent.map(|p| links[p].group) == Some(ga) || links[ga].parent.map(|p| links[p].group) == Some(gb)
-    };
-    let is_allowed = |a: &str, b: &str| allowed.iter().any(|(x, y)| (x == a && y == b) || (x == b && y == a));
-    let mut pairs = Vec::new();
-    for a in 0..m.bodies.len() {
-        for b in a + 1..m.bodies.len() {
-            let (ga, gb) = (group(a), group(b));
-            if (!m.bodies[a].moving && !m.bodies[b].moving) || ga == gb || adjacent(ga, gb) {
-                continue;
-            }
-            if is_allowed(&m.bodies[a].name, &m.bodies[b].name) {
-                continue;
-            }
-            pairs.push((a, b));
-        }
-    }
-    if samples == 0 || pairs.is_empty() {
-        return pairs;
-    }
-    let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f_c011 ^ seed);
-    let always = (ALWAYS_FRACTION_NUM * samples as f64).ceil() as usize;
-    // A pair is kept once it has come near and missed collision in more than
-    // `samples - always` samples: it can no longer be "always" colliding, so the rest
-    // of the samples need not test it (the same pairs as testing every sample).
-    let misses_to_keep = samples - always + 1;
-    let mut misses = vec![0usize; pairs.len()];
-    let mut near = vec![false; pairs.len()];
-    let mut s = Scratch::default();
-    let mut q = vec![0.0; m.chain.dof()];
-    let mut open = vec![false; m.bodies.len()];
-    let mut live: Vec<usize> = (0..pairs.len()).collect();
-    for _ in 0..samples {
-        live.retain(|&k| !(near[k] && misses[k] >= misses_to_keep));
-        if live.is_empty() {
-            break;
-        }
-        for (v, (lo, hi)) in q.iter_mut().zip(&m.chain.limits) {
-            *v = super::chain::sample_in(&mut rng, *lo, *hi);
-        }
-        open.fill(false);
-        for &k in &live {
-            let (a, b) = pairs[k];
-            (open[a], open[b]) = (true, true);
-        }
-        pose_bodies(m, &q, &open, &mut s);
-        for &k in &live {
-            let (a, b) = pairs[k];
-            if !near[k] && s.body_aabb[a].loosened(NEAR_MARGIN).intersects(&s.body_aabb[b]) {
-                near[k] = true;
-            }
-            if !(s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b)) {
-                misses[k] += 1;
-            }
-        }
-    }
-    pairs.into_iter().enumerate().filter(|&(k, _)| near[k] && misses[k] >= misses_to_keep).map(|(_, p)| p).collect()
-}
-
-/// Bodies whose bounding boxes never came this close (metres) in any sample are never checked.
-const NEAR_MARGIN: f64 = 0.05;
-
-/// A pair is "always in collision" at this fraction of samples (MoveIt's default).
-const ALWAYS_FRACTION_NUM: f64 = 0.95;
 
 /// A one-line account of a block, for error messages.
 pub(crate) fn describe(w: &World, r: RobotId, b: &Blocker) -> String {

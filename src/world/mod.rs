@@ -23,6 +23,7 @@ mod pair_grid;
 mod proximity;
 mod robot;
 mod scene;
+mod self_pairs;
 mod shapes;
 mod srdf;
 mod sweep;

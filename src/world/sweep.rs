@@ -17,6 +17,7 @@ use super::chain::Source;
 use super::check;
 use super::robot::RobotModel;
 use super::scene::Owner;
+use super::self_pairs;
 use super::shapes::{aabb_of, to_ppose, Placed};
 use super::urdf::Motion;
 use super::{Held, World};
@@ -225,7 +226,7 @@ impl World {
     /// groups, SRDF).
     pub fn self_pairs_unpruned(&self, r: RobotId) -> Vec<(usize, usize)> {
         let m = &self.robots[r.index()];
-        check::self_pairs(m, &m.allowed_pairs, 0, 0)
+        self_pairs::self_pairs(m, &m.allowed_pairs, 0, 0)
     }
 
     /// Per collision body (indexed as [`World::bodies`]), then for the flange: which joint
