@@ -254,6 +254,38 @@ impl World {
     pub fn joint_reach(&self, r: RobotId) -> JointReach {
         joint_reach(&self.robots[r.index()])
     }
+
+    /// Per body of [`World::bodies`], per joint: how far the body's own points can move per
+    /// unit of the joint (radian or metre), whatever the other joints do; 0 for a joint that
+    /// does not move it. [`JointReach::bodies`] bounds every body a joint moves at once; two
+    /// bodies of one robot close in no faster than the joints that move one and not the
+    /// other move that one, which this bounds body by body.
+    pub fn body_reach(&self, r: RobotId) -> Vec<Vec<f64>> {
+        let m = &self.robots[r.index()];
+        let links = &m.chain.links;
+        let own = own_radii(m);
+        m.bodies
+            .iter()
+            .map(|b| {
+                let mut reach = vec![0.0; m.chain.dof()];
+                // Bound on the distance from link `l`'s origin to the body's points.
+                let mut dist = own[b.link];
+                let mut l = Some(b.link);
+                while let Some(k) = l {
+                    if let Source::Active { index, mult, .. } = links[k].source {
+                        match links[k].motion {
+                            Motion::Rotate(_) => reach[index] += mult.abs() * dist,
+                            Motion::Slide(_) => reach[index] += mult.abs(),
+                            Motion::Fixed => {}
+                        }
+                    }
+                    dist += link_step(m, k);
+                    l = links[k].parent;
+                }
+                reach
+            })
+            .collect()
+    }
 }
 
 thread_local! {
@@ -281,34 +313,40 @@ fn radius_at(pose: &PPose, shape: &SharedShape) -> f64 {
     pose.transform_point(sphere.center).length() + sphere.radius
 }
 
-fn joint_reach(m: &RobotModel) -> JointReach {
-    let links = &m.chain.links;
-    let n = links.len();
-    let dof = m.chain.dof();
-    // How far a link's origin can be from its parent's: the fixed offset plus, for a
-    // sliding joint, its travel.
-    let step = |l: usize| -> f64 {
-        let link = &links[l];
-        let offset = link.pose_parent_joint.translation.vector.norm();
-        let travel = match (link.motion, link.source) {
-            (Motion::Slide(_), Source::Active { index, mult, offset: o }) => {
-                let (lo, hi) = m.chain.limits[index];
-                (lo * mult + o).abs().max((hi * mult + o).abs())
-            }
-            (Motion::Slide(_), Source::Frozen(v)) => v.abs(),
-            _ => 0.0,
-        };
-        offset + travel
+/// How far link `l`'s origin can be from its parent's: the fixed offset plus, for a
+/// sliding joint, its travel.
+fn link_step(m: &RobotModel, l: usize) -> f64 {
+    let link = &m.chain.links[l];
+    let offset = link.pose_parent_joint.translation.vector.norm();
+    let travel = match (link.motion, link.source) {
+        (Motion::Slide(_), Source::Active { index, mult, offset: o }) => {
+            let (lo, hi) = m.chain.limits[index];
+            (lo * mult + o).abs().max((hi * mult + o).abs())
+        }
+        (Motion::Slide(_), Source::Frozen(v)) => v.abs(),
+        _ => 0.0,
     };
-    // Farthest shape point from each link's own origin.
-    // (In every finger posture.)
-    let mut own = vec![0.0f64; n];
+    offset + travel
+}
+
+/// Per link: the farthest shape point from its own origin, in every finger posture.
+fn own_radii(m: &RobotModel) -> Vec<f64> {
+    let mut own = vec![0.0f64; m.chain.links.len()];
     for (si, s) in m.shapes.iter().enumerate() {
         let l = m.bodies[s.body].link;
         for p in 0..m.postures.len().max(1) {
             own[l] = own[l].max(radius_at(m.shape_pose(si, p), &s.placed.shape));
         }
     }
+    own
+}
+
+fn joint_reach(m: &RobotModel) -> JointReach {
+    let links = &m.chain.links;
+    let n = links.len();
+    let dof = m.chain.dof();
+    let step = |l: usize| link_step(m, l);
+    let own = own_radii(m);
     // Farthest point of the subtree below each link, from that link's origin. Parents
     // come before children, so a reverse pass sees every child first.
     let mut below = own.clone();

@@ -31,8 +31,12 @@ enum Thing {
 enum Movers {
     /// Every joint of the robot (against the scene).
     Robot(usize),
-    /// The robot's joints marked (two of its own bodies, or its flange and a body).
+    /// The robot's joints marked (its flange, with what it carries, and a body).
     Apart(usize, Vec<bool>),
+    /// The robot's joints, each rate scaled by a weight: two of its own bodies, each joint
+    /// that moves one and not the other weighted by that body's own reach over the reach
+    /// its rate was taken with (0 for the others).
+    Weighted(usize, Vec<f64>),
     /// Every joint of both robots.
     Robots(usize, usize),
 }
@@ -70,6 +74,9 @@ pub(super) struct Memory {
     /// Take every pair's bound at every instant, not only the queues' fronts: what the
     /// queues are tested against.
     pub every_pair: bool,
+    /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
+    /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
+    pub reach: Vec<Vec<f64>>,
 }
 
 /// A queued pair: its expiry (ordered as `f64::total_cmp` orders), index and stamp.
@@ -199,6 +206,7 @@ impl Cell<'_> {
             let of = |v: &[Vec<f64>]| match m {
                 Movers::Robot(r) => total(v, *r),
                 Movers::Apart(r, mask) => marked(v, *r, mask),
+                Movers::Weighted(r, w) => v.get(*r).map_or(0.0, |v| v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>()),
                 Movers::Robots(a, b) => total(v, *a) + total(v, *b),
             };
             memory.speed.push(of(rates));
@@ -362,7 +370,7 @@ impl Cell<'_> {
     /// objects are in place; nothing measured yet.
     fn list_pairs(&self, at: &[RobotAt], present: &ObjectSet, s: &Scratch, memory: &mut Memory) {
         let c = self.clearance;
-        let (pairs, movers) = (&mut memory.pairs, &mut memory.movers);
+        let (pairs, movers, memory_reach) = (&mut memory.pairs, &mut memory.movers, &memory.reach);
         pairs.clear();
         movers.clear();
         let mut group = |m: Movers| {
@@ -391,7 +399,21 @@ impl Cell<'_> {
             }
             let apart = |x: &[bool], y: &[bool]| x.iter().zip(y).map(|(x, y)| x != y).collect::<Vec<bool>>();
             for &(a, b) in &g.self_pairs {
-                let m = group(Movers::Apart(ri, apart(&g.body_joints[a], &g.body_joints[b])));
+                let weights = (0..g.body_joints[a].len())
+                    .map(|j| {
+                        let moved = match (g.body_joints[a][j], g.body_joints[b][j]) {
+                            (true, false) => a,
+                            (false, true) => b,
+                            _ => return 0.0,
+                        };
+                        // A joint whose rate was taken with no reach keeps its rate as it is.
+                        match memory_reach.get(ri).and_then(|r| r.get(j)) {
+                            Some(&reach) if reach > 0.0 => g.body_reach[moved][j] / reach,
+                            _ => 1.0,
+                        }
+                    })
+                    .collect();
+                let m = group(Movers::Weighted(ri, weights));
                 for (i, _) in posed.iter().enumerate().filter(|(_, x)| x.body == a) {
                     for (k, _) in posed.iter().enumerate().filter(|(_, y)| y.body == b) {
                         pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Posed(ri, k), must: 0.0, movers: m });

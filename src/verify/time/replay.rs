@@ -45,6 +45,7 @@ pub(super) fn run(
     let mut still = vec![false; tracks.len()];
     let mut memory = Memory::default();
     memory.every_pair = opts.every_pair;
+    memory.reach = reach.clone();
     // Returns how long from `t` nothing can come too close (see `Cell::free_time`), given
     // each joint's rate and odometer; without them, only checks. `clear`: an earlier
     // instant of the stretch has already proved nothing too close at `t`, so the contact

@@ -32,6 +32,8 @@ pub(super) struct RobotGeo {
     /// Per body, then for the flange (and what it carries): the joints that move it.
     pub body_joints: Vec<Vec<bool>>,
     pub flange_joints: Vec<bool>,
+    /// Per body, per joint: how far the body's own points move per unit of the joint.
+    pub body_reach: Vec<Vec<f64>>,
 }
 
 /// What stays the same across instants.
@@ -65,6 +67,7 @@ impl<'w> Cell<'w> {
                     self_pairs: world.self_pairs_unpruned(r),
                     body_joints,
                     flange_joints,
+                    body_reach: world.body_reach(r),
                 }
             })
             .collect();
