@@ -90,10 +90,10 @@ fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2:
 /// Per-thread buffers, so a check allocates nothing once warm.
 #[derive(Default)]
 pub(super) struct Scratch {
-    pub(super) links: Vec<Isometry3<f64>>,
-    pub(super) link_pose: Vec<PPose>,
-    pub(super) shape_pose: Vec<PPose>,
-    pub(super) shape_aabb: Vec<Aabb>,
+    links: Vec<Isometry3<f64>>,
+    link_pose: Vec<PPose>,
+    shape_pose: Vec<PPose>,
+    shape_aabb: Vec<Aabb>,
     pub(super) body_aabb: Vec<Aabb>,
     /// Per body: its shapes' entries are this check's (see [`pose_robot`]).
     body_posed: Vec<bool>,
@@ -128,12 +128,7 @@ pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
 /// (one per body, not one per shape) say so. The boxes are broad-phase filters only:
 /// every verdict still comes from the shapes' own boxes and the exact tests.
 fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
-    pose_links(m, q, s);
-    s.posture = posture;
-    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
-    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
-    s.body_posed.clear();
-    s.body_posed.resize(m.bodies.len(), false);
+    start_posing(m, q, posture, s);
     s.body_aabb.clear();
     if !m.fast_check {
         for (bi, b) in m.bodies.iter().enumerate() {
@@ -147,9 +142,19 @@ fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     }
 }
 
+/// The links at `q`, the fingers in `posture`, and no body's shapes placed yet.
+pub(super) fn start_posing(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
+    pose_links(m, q, s);
+    s.posture = posture;
+    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
+    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
+    s.body_posed.clear();
+    s.body_posed.resize(m.bodies.len(), false);
+}
+
 /// Places the shapes of body `bi` for this check, once.
 #[inline]
-fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
+pub(super) fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
     if std::mem::replace(&mut s.body_posed[bi], true) {
         return;
     }
@@ -162,7 +167,7 @@ fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
 }
 
 /// World poses of the robot's links at `q`.
-pub(super) fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
+fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
     s.links.resize(m.chain.links.len(), Isometry3::identity());
     m.chain.fk_from(&m.pose_world_base, q, &mut s.links);
     s.link_pose.clear();

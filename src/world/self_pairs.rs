@@ -3,11 +3,10 @@
 //! does) the pairs that collide in nearly every sample or never come near.
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
-use parry3d_f64::math::Pose as PPose;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::check::{bodies_collide, body_box, moving_aabb, pose_links, Scratch};
+use super::check::{bodies_collide, body_box, pose_body, start_posing, Scratch};
 use super::robot::RobotModel;
 use super::OPEN_POSTURE as OPEN;
 
@@ -93,16 +92,10 @@ const ALWAYS_FRACTION_NUM: f64 = 0.95;
 /// left as they were. The self-collision sampling, once most pairs are settled, poses
 /// the few bodies still in question.
 fn pose_bodies(m: &RobotModel, q: &[f64], bodies: &[bool], s: &mut Scratch) {
-    pose_links(m, q, s);
-    s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
-    s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
+    start_posing(m, q, OPEN, s);
     s.body_aabb.resize(m.bodies.len(), Aabb::new_invalid());
     for (bi, b) in m.bodies.iter().enumerate().filter(|(bi, _)| bodies[*bi]) {
-        for si in b.shapes.clone() {
-            let pose = s.link_pose[b.link] * *m.shape_pose(si, OPEN);
-            s.shape_aabb[si] = moving_aabb(&m.shapes[si].placed, &pose);
-            s.shape_pose[si] = pose;
-        }
+        pose_body(m, s, bi);
         s.body_aabb[bi] = body_box(s, b);
     }
 }
