@@ -24,7 +24,7 @@ use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use super::chain::{Chain, Source};
 use super::proximity::shape_distance;
 use super::robot::RobotModel;
-use super::shapes::{to_ppose, Boxed};
+use super::shapes::{to_ppose, Boxed, Placed};
 use super::urdf::Motion;
 use super::OPEN_POSTURE as OPEN;
 
@@ -73,13 +73,12 @@ impl PairGrid {
             // `side` runs from the body's link up towards the common ancestor.
             for (k, &l) in side.iter().enumerate() {
                 let link = &chain.links[l];
-                let (index, mult) = match (link.source, link.motion) {
+                let (index, mult, axis) = match (link.source, link.motion) {
                     (Source::Fixed | Source::Frozen(_), _) => continue,
-                    (Source::Active { index, mult, .. }, Motion::Rotate(_)) => (index, mult),
+                    (Source::Active { index, mult, .. }, Motion::Rotate(axis)) => (index, mult, axis),
                     // A sliding joint changes the chain's lengths: no grid.
                     _ => return None,
                 };
-                let Motion::Rotate(axis) = link.motion else { return None };
                 let below: Vec<usize> = side[..k].iter().rev().copied().collect();
                 let rho = reach_from_axis(m, chain, &axis, &below, body)?;
                 match reach.iter_mut().find(|(i, _)| *i == index) {
@@ -185,11 +184,9 @@ fn links_up_to_common(chain: &Chain, from: usize, other: usize) -> Vec<usize> {
 fn reach_from_axis(m: &RobotModel, chain: &Chain, axis: &Vector3<f64>, below: &[usize], body: usize) -> Option<f64> {
     let across = |v: Vector3<f64>| (v - axis * axis.dot(&v)).norm();
     let spheres = m.bodies[body].shapes.clone().map(|si| {
-        let p = &m.shapes[si].placed;
-        let local = p.shape.compute_local_aabb();
-        let pose = m.shape_pose(si, OPEN);
-        let c = *pose * local.center();
-        (Vector3::new(c.x, c.y, c.z), local.half_extents().length())
+        let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
+        let c = *m.shape_pose(si, OPEN) * centre;
+        (Vector3::new(c.x, c.y, c.z), radius)
     });
     let r = match below.split_first() {
         None => spheres.map(|(c, r)| across(c) + r).fold(0.0, f64::max),
@@ -210,6 +207,15 @@ fn reach_from_axis(m: &RobotModel, chain: &Chain, axis: &Vector3<f64>, below: &[
         }
     };
     r.is_finite().then_some(r)
+}
+
+/// A sphere around a placed shape, in the shape's own frame: a ball's own, else the one
+/// around its local box.
+fn bounding_sphere(p: &Placed) -> (PVec, f64) {
+    match p.boxed {
+        Boxed::Ball(r) => (PVec::ZERO, r),
+        _ => (p.obb.centre.translation, p.obb.cuboid.half_extents.length()),
+    }
 }
 
 /// Reused buffers of [`body_distance`].
@@ -235,13 +241,9 @@ pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: 
         let link = to_ppose(&links[m.bodies[body].link]);
         posed[k].clear();
         posed[k].extend(m.bodies[body].shapes.clone().map(|si| {
-            let placed = &m.shapes[si].placed;
             let pose = link * *m.shape_pose(si, OPEN);
-            let radius = match placed.boxed {
-                Boxed::Ball(r) => r,
-                _ => placed.obb.cuboid.half_extents.length(),
-            };
-            (si, pose, pose * placed.obb.centre.translation, radius)
+            let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
+            (si, pose, pose * centre, radius)
         }));
     }
     let mut best = f64::INFINITY;
