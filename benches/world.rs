@@ -1,7 +1,8 @@
 //! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
 //! removable objects, cycling through 256 seeded random configurations (the 10-object
 //! cell also without the check's shortcuts, `_plain`, and with the TX-90 of meshes of
-//! `../shared`); and the inverse kinematics of one grasp pose, all solutions.
+//! `../shared`); and the inverse kinematics of one grasp pose, all solutions, and of one
+//! pose of the shared Panda (7 joints) in closed form and by the numeric solver.
 //!
 //! Measured twice: wall time (criterion's default), and the benchmark thread's own
 //! CPU time (`CLOCK_THREAD_CPUTIME_ID`), which is what one core spends per
@@ -40,6 +41,23 @@ fn file(p: PathBuf) -> FileRef {
     FileRef { written: p.display().to_string(), path: p, span: Span::new(FileId(0), 0, 1) }
 }
 
+fn robot(name: &str, urdf: PathBuf, hand: Option<HandId>, home: Vec<f64>) -> Robot {
+    Robot {
+        name: name.into(),
+        span: Span::default(),
+        urdf: file(urdf),
+        pose_world_base: Pose::identity(),
+        hand,
+        flange: None,
+        srdf: None,
+        home: JointValues { values: home, span: Span::default(), units: Vec::new() },
+        drop: None,
+        allow_contact: vec![],
+        open: None,
+        closed: None,
+    }
+}
+
 fn world(objects: usize) -> World {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     world_of(root.join("examples/robots/tx90.urdf"), objects, &WorldOptions::default())
@@ -54,21 +72,7 @@ fn world_of(urdf: PathBuf, objects: usize, opts: &WorldOptions) -> World {
         urdf: file(root.join("examples/hands/sah.urdf")),
         pose_flange_tcp: at(0.0, 0.0, 0.16),
     };
-    let home = vec![0.0, 0.0, 90f64.to_radians(), 0.0, 0.0, 0.0];
-    let robot = Robot {
-        name: "tx90".into(),
-        span: Span::default(),
-        urdf: file(urdf),
-        pose_world_base: Pose::identity(),
-        hand: Some(HandId(0)),
-        flange: None,
-        srdf: None,
-        home: JointValues { values: home, span: Span::default(), units: Vec::new() },
-        drop: None,
-        allow_contact: vec![],
-        open: None,
-        closed: None,
-    };
+    let robot = robot("tx90", urdf, Some(HandId(0)), vec![0.0, 0.0, 90f64.to_radians(), 0.0, 0.0, 0.0]);
     // Table top at z 0.40 in front of the robot; objects standing on it in a grid.
     let table = body("table".into(), Shape::Box { size: Vector3::new(1.2, 1.6, 0.1) }, at(0.95, 0.0, 0.35));
     let mut rng = ChaCha8Rng::seed_from_u64(3);
@@ -94,6 +98,30 @@ fn world_of(urdf: PathBuf, objects: usize, opts: &WorldOptions) -> World {
         planner: PlannerSettings::default(),
     };
     build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
+}
+
+/// The shared Panda alone on the floor, no hand (`None` when ../shared is absent).
+fn panda(opts: &WorldOptions) -> Option<World> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let urdf = root.join("../shared/robots/panda/example-robot-data/robots/panda_description/urdf/panda.urdf");
+    if !urdf.is_file() {
+        eprintln!("skipped the Panda: {} is absent", urdf.display());
+        return None;
+    }
+    let robot = robot("panda", urdf, None, vec![0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785]);
+    let q = robot.home.clone();
+    let floor = body("floor".into(), Shape::Box { size: Vector3::new(1.6, 1.6, 0.04) }, at(0.0, 0.0, -0.02));
+    let scn = Scenario {
+        name: None,
+        root: root.join("bench.dcl"),
+        hands: vec![],
+        robots: vec![robot],
+        fixed: vec![floor],
+        objects: vec![],
+        target: Target::Config { robot: RobotId(0), q, span: Span::default() },
+        planner: PlannerSettings::default(),
+    };
+    Some(build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}")))
 }
 
 fn configs(w: &World) -> Vec<Vec<f64>> {
@@ -125,6 +153,19 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
     c.bench_function(&format!("{tag}ik_tx90_sah_six_solutions"), |b| {
         b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, 6)))
     });
+    // The Panda: a pose in front of it, pointing down; six solutions as `selectGrasps`
+    // asks, in closed form (joint 7 sampled) and by damped least squares.
+    let numeric = WorldOptions { closed_form_ik: false, ..WorldOptions::default() };
+    if let (Some(wc), Some(wn)) = (panda(&WorldOptions::default()), panda(&numeric)) {
+        let pose = wc.fk_tcp(RobotId(0), &[0.3, 0.4, -0.2, -1.9, 0.1, 2.2, 0.6]);
+        for (name, w) in [("closed_form", &wc), ("numeric", &wn)] {
+            let n = w.ik(RobotId(0), &pose, 1, 6).len();
+            eprintln!("ik panda {name}: {n} solutions");
+            c.bench_function(&format!("{tag}ik_panda_six_solutions_{name}"), |b| {
+                b.iter(|| black_box(w.ik(RobotId(0), black_box(&pose), 1, 6)))
+            });
+        }
+    }
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let meshes = root.join("../shared/robots/tx90/tx90.urdf");
     let mut cells: Vec<(String, World)> = [10, 200].map(|n| (format!("tx90_sah_table_{n}_objects"), world(n))).into();

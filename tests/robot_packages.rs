@@ -126,3 +126,67 @@ fn what_check_can_know_before_planning_is_a_located_error() {
     let (code, stderr) = run(&["check", "tests/fixtures/packages/srdf_ok.dcl"]);
     assert_eq!(code, 0, "{stderr}");
 }
+
+/// The Panda and the iiwa (7 joints, a spherical shoulder, axes 5 and 6 meeting) solve
+/// a pose in closed form at sampled values of joint 7: every answer in limits and on the
+/// pose, joint 7 at home's value or one of 12 spread over its range (the numeric
+/// solver's would fall anywhere), distinct postures first; and no pose the numeric
+/// solver reaches is left without an answer.
+#[test]
+fn seven_joint_arms_solve_a_pose_in_closed_form_wherever_the_numeric_solver_does() {
+    use rand::{RngExt, SeedableRng};
+    let Some(root) = shared_robots() else { return };
+    let erd = "panda/example-robot-data/robots/panda_description";
+    let cases = [
+        ("panda_ik", format!("{erd}/urdf/panda.urdf")),
+        ("iiwa_ik", "iiwa/drake_models/iiwa_description/urdf/iiwa14_primitive_collision.urdf".to_string()),
+    ];
+    for (name, urdf) in cases {
+        let scn_path = mid_range_scenario(name, &root.join(&urdf), None);
+        let mut sources = SourceMap::new();
+        let scn = declutter::resolve::resolve(&scn_path, &FsLoader, &mut sources).unwrap();
+        let base = WorldOptions { self_collision_samples: 0, ..WorldOptions::default() };
+        let w = world::build(&scn, &base, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+        let numeric = WorldOptions { closed_form_ik: false, ..base };
+        let wn = world::build(&scn, &numeric, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"));
+        let arm = declutter::resolve::RobotId(0);
+        let lim = w.limits(arm).to_vec();
+        let (lo7, hi7) = lim[6];
+        let home7 = w.home(arm)[6].clamp(lo7, hi7);
+        let sampled = |v: f64| {
+            (v - home7).abs() < 1e-12
+                || (0..12).any(|i| (v - (lo7 + (hi7 - lo7) * (i as f64 + 0.5) / 12.0)).abs() < 1e-12)
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let (mut reached, mut both) = (0, 0);
+        for i in 0..40 {
+            let q: Vec<f64> = lim.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect();
+            let pose = w.fk_tcp(arm, &q);
+            let closed = w.ik(arm, &pose, 1, 6);
+            for s in &closed {
+                assert!(s.iter().zip(&lim).all(|(v, (lo, hi))| v >= lo && v <= hi), "{name} #{i}: {s:?} out of limits");
+                let got = w.fk_tcp(arm, s);
+                let gap = (got.translation.vector - pose.translation.vector)
+                    .norm()
+                    .max(got.rotation.angle_to(&pose.rotation));
+                assert!(gap < 1e-9, "{name} #{i}: {s:?} misses the pose by {gap}");
+                assert!(sampled(s[6]), "{name} #{i}: joint 7 at {} is not a sampled value", s[6]);
+            }
+            let far = |a: &[f64], b: &[f64]| a.iter().zip(b).any(|(x, y)| (x - y).abs() > 0.5);
+            let postures =
+                closed.iter().take_while(|s| closed.iter().take_while(|t| t != s).all(|t| far(t, s))).count();
+            assert!(postures >= closed.len().min(2), "{name} #{i}: the first answers are one posture: {closed:?}");
+            reached += !closed.is_empty() as usize;
+            if !wn.ik(arm, &pose, 1, 6).is_empty() {
+                both += 1;
+                assert!(
+                    !closed.is_empty(),
+                    "{name} #{i}: the numeric solver reaches {q:?}'s pose, the closed form does not"
+                );
+            }
+        }
+        // The sampled configurations' own poses: most are reached at some sampled joint 7.
+        assert!(reached >= 30 && both >= 30, "{name}: closed form {reached}, numeric {both} of 40");
+        eprintln!("{name}: closed form reached {reached} of 40 poses, the numeric solver {both}");
+    }
+}

@@ -20,27 +20,53 @@ use super::chain::{Chain, Source};
 use super::urdf::Motion;
 
 /// Axes closer than this to parallel / intersecting count as such (metres, sines).
-const GEOMETRY_EPS: f64 = 1e-9;
+pub(super) const GEOMETRY_EPS: f64 = 1e-9;
 /// Margins (from ±1 for an `acos`, from 0 for a square root) below which a solution
 /// is confirmed by forward kinematics.
-const CONDITION: f64 = 1e-6;
+pub(super) const CONDITION: f64 = 1e-6;
 /// A closed-form solution is accepted when its forward kinematics is this close.
 pub(crate) const ACCEPT: f64 = 1e-7;
 
 #[derive(Debug, Clone, Copy)]
-struct Axis {
-    w: Vector3<f64>,
-    p: Vector3<f64>,
+pub(super) struct Axis {
+    pub(super) w: Vector3<f64>,
+    pub(super) p: Vector3<f64>,
 }
 
 impl Axis {
-    fn rot(&self, t: f64) -> Rotation3<f64> {
+    pub(super) fn rot(&self, t: f64) -> Rotation3<f64> {
         Rotation3::from_axis_angle(&Unit::new_unchecked(self.w), t)
     }
     /// The point `x` turned by `t` about this axis.
-    fn turn(&self, t: f64, x: &Vector3<f64>) -> Vector3<f64> {
+    pub(super) fn turn(&self, t: f64, x: &Vector3<f64>) -> Vector3<f64> {
         self.p + self.rot(t) * (x - self.p)
     }
+    /// The turn by `t` as a rigid motion.
+    pub(super) fn motion(&self, t: f64) -> Isometry3<f64> {
+        let r = self.rot(t);
+        Isometry3::from_parts((self.p - r * self.p).into(), r.into())
+    }
+}
+
+/// The joint axes of a chain of plain revolute joints (no slide, mimic or frozen joint
+/// on the path) in the base frame at q = 0, or `None`.
+pub(super) fn plain_axes(chain: &Chain) -> Option<Vec<Axis>> {
+    let mut axes = Vec::with_capacity(chain.dof());
+    let mut t = Isometry3::identity();
+    for &l in &chain.path[1..] {
+        let link = &chain.links[l];
+        t *= link.pose_parent_joint;
+        match (link.motion, link.source) {
+            (Motion::Fixed, _) | (_, Source::Fixed) => {}
+            (Motion::Rotate(a), Source::Active { index, mult, offset })
+                if index == axes.len() && mult == 1.0 && offset == 0.0 =>
+            {
+                axes.push(Axis { w: t.rotation * a.into_inner(), p: t.translation.vector });
+            }
+            _ => return None,
+        }
+    }
+    Some(axes)
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -66,23 +92,8 @@ impl Analytic {
         if chain.dof() != 6 {
             return None;
         }
-        let mut axes = Vec::with_capacity(6);
-        let mut t = Isometry3::identity();
-        for &l in &chain.path[1..] {
-            let link = &chain.links[l];
-            t *= link.pose_parent_joint;
-            match (link.motion, link.source) {
-                (Motion::Fixed, _) | (_, Source::Fixed) => {}
-                (Motion::Rotate(a), Source::Active { index, mult, offset })
-                    if index == axes.len() && mult == 1.0 && offset == 0.0 =>
-                {
-                    axes.push(Axis { w: t.rotation * a.into_inner(), p: t.translation.vector });
-                }
-                // A slide, a mimic, a frozen joint on the path: not a plain 6R arm.
-                _ => return None,
-            }
-        }
-        let axes: [Axis; 6] = axes.try_into().ok()?;
+        // A slide, a mimic, a frozen joint on the path: not a plain 6R arm.
+        let axes: [Axis; 6] = plain_axes(chain)?.try_into().ok()?;
         let flange0 = chain.fk_flange(&[0.0; 6]);
         let parallel = |i: usize, j: usize| axes[i].w.cross(&axes[j].w).norm() < GEOMETRY_EPS;
         if !parallel(1, 2) || parallel(0, 1) {
@@ -97,24 +108,7 @@ impl Analytic {
             None => return None,
         };
         let a = Analytic { axes, flange0, family };
-        a.self_test(chain).then_some(a)
-    }
-
-    /// Recovers a few seeded configurations: a family detected wrongly (a geometry
-    /// this file does not handle) would fail here, and the numeric solver stays.
-    fn self_test(&self, chain: &Chain) -> bool {
-        let mut rng = ChaCha8Rng::seed_from_u64(0xa11a);
-        (0..8).all(|_| {
-            let q: Vec<f64> = chain
-                .limits
-                .iter()
-                .map(|(lo, hi)| super::chain::sample_in(&mut rng, lo.max(-3.0), hi.min(3.0)))
-                .collect();
-            let target = chain.fk_flange(&q);
-            self.solve(&target).iter().any(|s| {
-                s.iter().zip(&q).all(|(a, b)| wrap_pi(a - b).abs() < 1e-6) && close(&chain.fk_flange(s), &target)
-            })
-        })
+        recovers(chain, 0xa11a, |target, _| a.solve(target)).then_some(a)
     }
 
     /// Every solution for the flange pose `target` (base frame), angles in (-π, π].
@@ -187,8 +181,28 @@ impl Analytic {
     }
 }
 
+/// Whether `solve` (given a flange pose and the configuration it came from, for a
+/// solver that takes part of it as given) recovers a few seeded configurations of
+/// `chain`: a family detected wrongly (a geometry these files do not handle) fails here,
+/// and the numeric solver stays.
+pub(super) fn recovers<const N: usize>(
+    chain: &Chain,
+    seed: u64,
+    solve: impl Fn(&Isometry3<f64>, &[f64]) -> Vec<[f64; N]>,
+) -> bool {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..8).all(|_| {
+        let q: Vec<f64> =
+            chain.limits.iter().map(|(lo, hi)| super::chain::sample_in(&mut rng, lo.max(-3.0), hi.min(3.0))).collect();
+        let target = chain.fk_flange(&q);
+        solve(&target, &q)
+            .iter()
+            .any(|s| s.iter().zip(&q).all(|(a, b)| wrap_pi(a - b).abs() < 1e-6) && close(&chain.fk_flange(s), &target))
+    })
+}
+
 /// The point where two axes meet, if they do.
-fn meet(a: &Axis, b: &Axis) -> Option<Vector3<f64>> {
+pub(super) fn meet(a: &Axis, b: &Axis) -> Option<Vector3<f64>> {
     let n = a.w.cross(&b.w);
     let nn = n.norm_squared();
     if nn < GEOMETRY_EPS * GEOMETRY_EPS {
@@ -202,7 +216,7 @@ fn meet(a: &Axis, b: &Axis) -> Option<Vector3<f64>> {
     Some(a.p + a.w * t)
 }
 
-fn on_axis(a: &Axis, x: &Vector3<f64>) -> bool {
+pub(super) fn on_axis(a: &Axis, x: &Vector3<f64>) -> bool {
     (x - a.p).cross(&a.w).norm() < GEOMETRY_EPS
 }
 
@@ -220,14 +234,14 @@ pub(crate) fn wrap_pi(x: f64) -> f64 {
     }
 }
 
-fn any_normal(d: &Vector3<f64>) -> Vector3<f64> {
+pub(super) fn any_normal(d: &Vector3<f64>) -> Vector3<f64> {
     let t = if d.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
     d.cross(&t).normalize()
 }
 
 /// Subproblem 1: the angle about `w` (through the origin) turning `u` onto `v`
 /// (their components across `w`).
-fn angle_to(w: &Vector3<f64>, u: &Vector3<f64>, v: &Vector3<f64>) -> f64 {
+pub(super) fn angle_to(w: &Vector3<f64>, u: &Vector3<f64>, v: &Vector3<f64>) -> f64 {
     let up = u - w * w.dot(u);
     let vp = v - w * w.dot(v);
     w.dot(&up.cross(&vp)).atan2(up.dot(&vp))
@@ -290,7 +304,7 @@ fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> 
 }
 
 /// Subproblem 2 and 1 on a spherical wrist: `Rot4 Rot5 Rot6 = m`.
-fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> (Vec<(f64, f64, f64)>, bool) {
+pub(super) fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> (Vec<(f64, f64, f64)>, bool) {
     let (w4, w5, w6) = (a4.w, a5.w, a6.w);
     let x = w6;
     let y = m * w6;

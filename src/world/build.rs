@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use nalgebra::Isometry3;
 
 use super::analytic::Analytic;
+use super::analytic7::Redundant;
 use super::chain::Chain;
 use super::check::{self, CheckCtx};
 use super::error::WorldError;
@@ -35,6 +36,9 @@ pub struct WorldOptions {
     /// decided by a grid of their distances first, and a body's shapes placed only when its
     /// box is near something. The same verdicts; off only to compare against the plain check.
     pub fast_check: bool,
+    /// Inverse kinematics in closed form where the arm allows it (the 6R families, 7R
+    /// arms with joint 7 sampled); off, the numeric solver for every arm (to compare).
+    pub closed_form_ik: bool,
 }
 
 impl Default for WorldOptions {
@@ -44,6 +48,7 @@ impl Default for WorldOptions {
             mesh_mode: MeshMode::ConvexHull,
             self_collision_samples: 2000,
             fast_check: true,
+            closed_form_ik: true,
         }
     }
 }
@@ -101,10 +106,12 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             sh.placed.pose = *p;
         }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
-        let analytic = Analytic::detect(&chain);
+        let analytic = if opts.closed_form_ik { Analytic::detect(&chain) } else { None };
+        let redundant = if opts.closed_form_ik && analytic.is_none() { Redundant::detect(&chain) } else { None };
         let body_frames = RobotModel::frame_boxes(&bodies, &shapes, &postures);
         robots.push(RobotModel {
             analytic,
+            redundant,
             name: r.name.clone(),
             chain,
             pose_world_base: r.pose_world_base,

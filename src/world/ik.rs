@@ -1,5 +1,6 @@
 //! Inverse kinematics of the TCP pose: the closed form of [`super::analytic`] when
-//! the arm has one (every in-limit solution, nearest home first), else damped least
+//! the arm has one (every in-limit solution, nearest home first), that of
+//! [`super::analytic7`] for a 7R arm of its family (joint 7 sampled), else damped least
 //! squares (Levenberg–Marquardt) from several seeded starts, joint values kept inside
 //! their limits (revolute joints wrapped by 2π when that brings them inside).
 //! Deterministic per seed.
@@ -9,6 +10,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::analytic::{self, Analytic};
+use super::analytic7::Redundant;
 use super::chain::Chain;
 use super::robot::RobotModel;
 use super::urdf::Motion;
@@ -144,6 +146,9 @@ pub(crate) fn solve(m: &RobotModel, pose_world_tcp: &Pose, seed: u64, max_soluti
         all.truncate(max_solutions);
         return all;
     }
+    if let Some(r) = &m.redundant {
+        return closed_form7(m, r, &target, max_solutions);
+    }
     let rot = rotational(&m.chain);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     // Each start that converges buys more starts, up to the cap: a pose out of reach
@@ -185,6 +190,16 @@ pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -
         let dist = |c: &Config| c.iter().zip(start).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
         return closed_form(m, a, &target).into_iter().min_by(|x, y| dist(x).total_cmp(&dist(y)));
     }
+    // A 7R arm keeps joint 7 where it starts: the nearest posture with it, if any.
+    if let (Some(r), Some(&q7)) = (&m.redundant, start.get(6)) {
+        let flange = target * m.pose_flange_tcp.inverse();
+        let mut found: Vec<(f64, bool, [f64; 7])> = Vec::with_capacity(8);
+        let from: [f64; 7] = std::array::from_fn(|k| start[k]);
+        gather(m, &target, &flange, r.solve_at(&flange, q7), &from, &mut found);
+        if let Some(best) = found.iter().min_by(|x, y| x.0.total_cmp(&y.0)) {
+            return Some(Config(best.2.to_vec()));
+        }
+    }
     let rot = rotational(&m.chain);
     let mut q = start.to_vec();
     refine(m, &target, &mut q, &rot).then_some(Config(q))
@@ -196,34 +211,8 @@ pub(crate) fn solve_near(m: &RobotModel, pose_world_tcp: &Pose, start: &[f64]) -
 fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Config> {
     let flange = target * m.pose_flange_tcp.inverse();
     let home: [f64; 6] = std::array::from_fn(|k| m.home.get(k).copied().unwrap_or(0.0));
-    let dist = |q: &[f64; 6]| q.iter().zip(&home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
-    // (distance from home, turned by a whole turn?, configuration)
-    let mut found: Vec<(f64, bool, [f64; 6])> = Vec::with_capacity(16);
-    let mut rot = None;
-    for (mut q, sure) in a.solve_conditioned(&flange) {
-        if !q.iter().all(|v| v.is_finite()) {
-            continue;
-        }
-        // Rounding near a singularity (acos of ±1) can cost digits: confirm, and polish
-        // with the numeric step, which converges in one or two iterations from there.
-        let err = if sure { Vector6::zeros() } else { pose_error(&flange, &m.chain.fk_flange(&q)) };
-        if err.fixed_rows::<3>(0).norm() >= IK_TOLERANCE || err.fixed_rows::<3>(3).norm() >= IK_TOLERANCE {
-            let rot = rot.get_or_insert_with(|| rotational(&m.chain));
-            if err.norm() > analytic::ACCEPT || !refine(m, target, &mut q, rot) {
-                continue;
-            }
-        }
-        let Some((turns, counts)) = in_limits(&m.chain.limits, &q, &home) else { continue };
-        // Every combination of the joints' in-limit turns, the nearest-home one first.
-        let mut digit = [0usize; 6];
-        loop {
-            let v: [f64; 6] = std::array::from_fn(|k| turns[k][digit[k]]);
-            found.push((dist(&v), digit != [0; 6], v));
-            let Some(k) = (0..6).find(|&k| digit[k] + 1 < counts[k]) else { break };
-            digit[k] += 1;
-            digit[..k].fill(0);
-        }
-    }
+    let mut found = Vec::with_capacity(16);
+    gather(m, target, &flange, a.solve_conditioned(&flange), &home, &mut found);
     found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
     let mut out: Vec<Config> = Vec::with_capacity(found.len());
     for (_, _, q) in found {
@@ -234,18 +223,94 @@ fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Con
     out
 }
 
+/// Values of joint 7 the 7R closed form is solved at: home's, then this many spread
+/// evenly over the joint's range.
+const REDUNDANT_SAMPLES: usize = 12;
+/// Solutions of a 7R arm closer than this in every joint (radians) are one posture:
+/// the first `max_solutions` answers are taken from distinct postures while there are.
+const POSTURE: f64 = 0.5;
+
+/// Up to `max` in-limit configurations of a 7R arm reaching `target` (TCP, base
+/// frame) by the closed form at sampled values of joint 7: nearest home first, one per
+/// posture (see [`POSTURE`]) before a second of the same one.
+fn closed_form7(m: &RobotModel, r: &Redundant, target: &Isometry3<f64>, max: usize) -> Vec<Config> {
+    let flange = target * m.pose_flange_tcp.inverse();
+    let home: [f64; 7] = std::array::from_fn(|k| m.home.get(k).copied().unwrap_or(0.0));
+    let (lo, hi) = m.chain.limits[6];
+    let spread = (0..REDUNDANT_SAMPLES).map(|i| lo + (hi - lo) * (i as f64 + 0.5) / REDUNDANT_SAMPLES as f64);
+    let mut found = Vec::with_capacity(8 * (REDUNDANT_SAMPLES + 1));
+    for q7 in std::iter::once(home[6].clamp(lo, hi)).chain(spread) {
+        gather(m, target, &flange, r.solve_at(&flange, q7), &home, &mut found);
+    }
+    found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
+    let near =
+        |out: &[Config], q: &[f64; 7], d: f64| out.iter().any(|s| s.iter().zip(q).all(|(a, b)| (a - b).abs() <= d));
+    let mut out: Vec<Config> = Vec::with_capacity(max);
+    for pass in [POSTURE, DISTINCT] {
+        for (_, _, q) in &found {
+            if out.len() < max && !near(&out, q, pass) {
+                out.push(Config(q.to_vec()));
+            }
+        }
+    }
+    out
+}
+
+/// Confirms closed-form candidates (polishing ill-conditioned ones with the numeric
+/// step) and adds each in-limit one, with its whole-turn variants, to `found` as
+/// (distance from home, turned by a whole turn?, configuration).
+fn gather<const N: usize>(
+    m: &RobotModel,
+    target: &Isometry3<f64>,
+    flange: &Isometry3<f64>,
+    candidates: Vec<([f64; N], bool)>,
+    home: &[f64; N],
+    found: &mut Vec<(f64, bool, [f64; N])>,
+) {
+    let dist = |q: &[f64; N]| q.iter().zip(home).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+    let mut rot = None;
+    for (mut q, sure) in candidates {
+        if !q.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        // Rounding near a singularity (acos of ±1) can cost digits: confirm, and polish
+        // with the numeric step, which converges in one or two iterations from there.
+        let err = if sure { Vector6::zeros() } else { pose_error(flange, &m.chain.fk_flange(&q)) };
+        if err.fixed_rows::<3>(0).norm() >= IK_TOLERANCE || err.fixed_rows::<3>(3).norm() >= IK_TOLERANCE {
+            let rot = rot.get_or_insert_with(|| rotational(&m.chain));
+            if err.norm() > analytic::ACCEPT || !refine(m, target, &mut q, rot) {
+                continue;
+            }
+        }
+        let Some((turns, counts)) = in_limits(&m.chain.limits, &q, home) else { continue };
+        // Every combination of the joints' in-limit turns, the nearest-home one first.
+        let mut digit = [0usize; N];
+        loop {
+            let v: [f64; N] = std::array::from_fn(|k| turns[k][digit[k]]);
+            found.push((dist(&v), digit != [0; N], v));
+            let Some(k) = (0..N).find(|&k| digit[k] + 1 < counts[k]) else { break };
+            digit[k] += 1;
+            digit[..k].fill(0);
+        }
+    }
+}
+
 /// At most this many whole-turn variants of one joint are kept (limits wider than
 /// ±8π are not seen in practice).
 const MAX_TURNS: usize = 8;
 
 /// Per joint, the values `q + 2πk` inside the limits, the one nearest home first, and
 /// how many there are; `None` when some joint has none.
-fn in_limits(limits: &[(f64, f64)], q: &[f64; 6], home: &[f64; 6]) -> Option<([[f64; MAX_TURNS]; 6], [usize; 6])> {
+fn in_limits<const N: usize>(
+    limits: &[(f64, f64)],
+    q: &[f64; N],
+    home: &[f64; N],
+) -> Option<([[f64; MAX_TURNS]; N], [usize; N])> {
     use std::f64::consts::TAU;
     let slack = super::check::LIMIT_SLACK;
-    let mut turns = [[0.0; MAX_TURNS]; 6];
-    let mut counts = [0usize; 6];
-    for k in 0..6 {
+    let mut turns = [[0.0; MAX_TURNS]; N];
+    let mut counts = [0usize; N];
+    for k in 0..N {
         let (v, (lo, hi), h) = (q[k], limits[k], home[k]);
         let mut x = v - ((v - lo) / TAU).floor() * TAU;
         let options = &mut turns[k];

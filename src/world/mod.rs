@@ -8,6 +8,7 @@
 //! CLI maps them back to declarations.
 
 mod analytic;
+mod analytic7;
 mod build;
 mod chain;
 mod check;

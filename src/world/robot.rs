@@ -7,6 +7,7 @@ use std::ops::Range;
 use parry3d_f64::math::Pose as PPose;
 
 use super::analytic::Analytic;
+use super::analytic7::Redundant;
 use super::chain::{Chain, FingerJoint};
 use super::pair_grid::PairGrid;
 use super::scene::Scene;
@@ -55,6 +56,8 @@ pub(crate) struct RobotModel {
     pub drop: Config,
     /// The closed-form IK solver, when the arm is of a family it knows.
     pub analytic: Option<Analytic>,
+    /// The closed-form IK solver of a 7R arm (joint 7 given), when it is of that family.
+    pub redundant: Option<Redundant>,
     /// The gripper's finger joints: the arm URDF's, then the hand's.
     pub fingers: Vec<FingerJoint>,
     /// Where the fingers can stand; the first is open (the hand empty).
