@@ -209,7 +209,7 @@ impl Built {
                 // Parts are never unchecked (see `build`); an unknown label here has no key
                 // to check it by, so the run is left out rather than searched as unknown.
                 let rule = self.erule[e as usize];
-                self.g.elab[e as usize] = c.label(s).map_or(Lab::Blocked, |l| rule.known(l.as_ref()));
+                self.g.set_elab(e as usize, c.label(s).map_or(Lab::Blocked, |l| rule.known(l.as_ref())));
                 any = true;
             }
         }
@@ -410,7 +410,7 @@ pub(super) fn build(
     let mut offsets = Vec::new();
     for (li, (mode, rule, extras)) in layers.iter().enumerate() {
         let (mode, rule) = (*mode, *rule);
-        let off = b.g.vlab.len() as u32;
+        let off = b.g.vlab().len() as u32;
         offsets.push(off);
         let strip = |l: &ObjectSet| {
             let mut l = l.clone();
@@ -446,7 +446,7 @@ pub(super) fn build(
                 let item = LabelKey::Edge(mode, na.min(nb), na.max(nb));
                 let lab = match known {
                     Some(l) => rule.known(l.as_ref()),
-                    None => match (&b.g.vlab[la as usize], &b.g.vlab[lb as usize]) {
+                    None => match (&b.g.vlab()[la as usize], &b.g.vlab()[lb as usize]) {
                         (Lab::Blocked, _) | (_, Lab::Blocked) => Lab::Blocked,
                         (Lab::Known(x) | Lab::Unknown(x), Lab::Known(y) | Lab::Unknown(y)) => Lab::Unknown(x.union(y)),
                     },

@@ -133,12 +133,12 @@ impl<S: Space> RobotPlanner<S> {
             for &i in &chosen {
                 let (b, Some(f)) = (&built[i], &found[i]) else { continue };
                 for &v in &f.verts {
-                    if !b.g.vlab[v as usize].is_known() && seen.insert(b.vkey[v as usize]) {
+                    if !b.g.vlab()[v as usize].is_known() && seen.insert(b.vkey[v as usize]) {
                         wanted.push(b.vkey[v as usize]);
                     }
                 }
                 for &e in &f.edges {
-                    if !b.g.elab[e as usize].is_known() {
+                    if !b.g.elab()[e as usize].is_known() {
                         let k = b.ekey[e as usize].expect("unknown edges have keys");
                         if seen.insert(k) {
                             wanted.push(k);
@@ -183,7 +183,7 @@ impl<S: Space> RobotPlanner<S> {
                 for (b, d) in built.iter_mut().zip(dirty.iter_mut()) {
                     for e in 0..b.ekey.len() {
                         if let Some(l) = b.ekey[e].and_then(|k| changed.get(&k)) {
-                            b.g.elab[e] = b.erule[e].known(l.as_ref());
+                            b.g.set_elab(e, b.erule[e].known(l.as_ref()));
                             *d = true;
                         }
                     }
@@ -232,8 +232,8 @@ impl<S: Space> RobotPlanner<S> {
                 for &v in &f.verts {
                     let v = v as usize;
                     if let Some(l) = known.get(&b.vkey[v]) {
-                        if !b.g.vlab[v].is_known() {
-                            b.g.vlab[v] = b.vrule[v].known(l.as_ref());
+                        if !b.g.vlab()[v].is_known() {
+                            b.g.set_vlab(v, b.vrule[v].known(l.as_ref()));
                             *d = true;
                         }
                     }
@@ -241,8 +241,8 @@ impl<S: Space> RobotPlanner<S> {
                 for &e in &f.edges {
                     let e = e as usize;
                     if let Some(l) = b.ekey[e].and_then(|k| known.get(&k)) {
-                        if !b.g.elab[e].is_known() {
-                            b.g.elab[e] = b.erule[e].known(l.as_ref());
+                        if !b.g.elab()[e].is_known() {
+                            b.g.set_elab(e, b.erule[e].known(l.as_ref()));
                             *d = true;
                         }
                     }

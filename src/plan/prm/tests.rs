@@ -83,7 +83,7 @@ fn assert_consistent(p: &RobotPlanner<Open>, object: Option<ObjectId>) {
 
 fn assert_holds(b: &crate::plan::layers::Built) {
     let (h, g) = (&b.g.h, &b.g);
-    assert_eq!(h.len(), g.vlab.len());
+    assert_eq!(h.len(), g.vlab().len());
     assert_eq!(h[b.goal as usize], 0.0);
     let mut tight = 0;
     for (v, adj) in g.adj.iter().enumerate() {
@@ -126,7 +126,7 @@ fn a_contracted_tree_answers_as_the_whole_tree() {
     let k = p.settings.neighbours;
     let [whole, cut] =
         [false, true].map(|c| p.lock(|s| build(s, 4, k, None, &goal, None, (u32::MAX, true, c)), &mut 0));
-    assert!(cut.g.vlab.len() < whole.g.vlab.len(), "{} vs {}", cut.g.vlab.len(), whole.g.vlab.len());
+    assert!(cut.g.vlab().len() < whole.g.vlab().len(), "{} vs {}", cut.g.vlab().len(), whole.g.vlab().len());
     assert!(!cut.chains.is_empty());
     // Every vertex of the whole graph as a start: the roadmap's and the kept tree nodes.
     let mut compared = 0;
