@@ -176,6 +176,9 @@ fn seven_joint_arms_solve_a_pose_in_closed_form_wherever_the_numeric_solver_does
             let postures =
                 closed.iter().take_while(|s| closed.iter().take_while(|t| t != s).all(|t| far(t, s))).count();
             assert!(postures >= closed.len().min(2), "{name} #{i}: the first answers are one posture: {closed:?}");
+            // Asked for every solution: all of those six, and more.
+            let all = w.ik(arm, &pose, 1, usize::MAX);
+            assert!(closed.iter().all(|s| all.contains(s)) && all.len() >= closed.len(), "{name} #{i}");
             reached += !closed.is_empty() as usize;
             if !wn.ik(arm, &pose, 1, 6).is_empty() {
                 both += 1;

@@ -245,7 +245,7 @@ fn closed_form7(m: &RobotModel, r: &Redundant, target: &Isometry3<f64>, max: usi
     found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
     let near =
         |out: &[Config], q: &[f64; 7], d: f64| out.iter().any(|s| s.iter().zip(q).all(|(a, b)| (a - b).abs() <= d));
-    let mut out: Vec<Config> = Vec::with_capacity(max);
+    let mut out: Vec<Config> = Vec::with_capacity(max.min(found.len()));
     for pass in [POSTURE, DISTINCT] {
         for (_, _, q) in &found {
             if out.len() < max && !near(&out, q, pass) {
