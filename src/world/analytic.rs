@@ -305,29 +305,41 @@ fn planar_2r(a2: &Axis, a3: &Axis, x0: &Vector3<f64>, target: &Vector3<f64>) -> 
 
 /// Subproblem 2 and 1 on a spherical wrist: `Rot4 Rot5 Rot6 = m`.
 pub(super) fn wrist(a4: &Axis, a5: &Axis, a6: &Axis, m: &Rotation3<f64>) -> (Vec<(f64, f64, f64)>, bool) {
-    let (w4, w5, w6) = (a4.w, a5.w, a6.w);
-    let x = w6;
-    let y = m * w6;
-    // z = Rot5 x = Rot4⁻¹ y: w5·z = w5·x, w4·z = w4·y, |z| = 1.
-    let c45 = w4.dot(&w5);
-    let den = c45 * c45 - 1.0;
-    let alpha = (c45 * w5.dot(&x) - w4.dot(&y)) / den;
-    let beta = (c45 * w4.dot(&y) - w5.dot(&x)) / den;
-    let n = w4.cross(&w5);
-    let g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c45) / n.norm_squared();
+    let w6 = a6.w;
+    let (q45, ok) = two_axes(&a4.w, &a5.w, &w6, &(m * w6));
+    let q456 = q45
+        .into_iter()
+        .map(|(q4, q5)| {
+            let rest = a5.rot(-q5) * a4.rot(-q4) * m;
+            let v = any_normal(&w6);
+            (q4, q5, angle_to(&w6, &v, &(rest * v)))
+        })
+        .collect();
+    (q456, ok)
+}
+
+/// Subproblem 2: the angles (a, b) with `Rot(wa, a) Rot(wb, b) x = y`, `x` and `y` unit.
+pub(super) fn two_axes(
+    wa: &Vector3<f64>,
+    wb: &Vector3<f64>,
+    x: &Vector3<f64>,
+    y: &Vector3<f64>,
+) -> (Vec<(f64, f64)>, bool) {
+    // z = Rot(wb) x = Rot(wa)⁻¹ y: wb·z = wb·x, wa·z = wa·y, |z| = 1.
+    let c = wa.dot(wb);
+    let den = 1.0 - c * c;
+    let alpha = (wa.dot(y) - c * wb.dot(x)) / den;
+    let beta = (wb.dot(x) - c * wa.dot(y)) / den;
+    let n = wa.cross(wb);
+    let g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c) / n.norm_squared();
     let mut out = Vec::with_capacity(2);
     if g2 < -1e-9 {
         return (out, false);
     }
     let g = g2.max(0.0).sqrt();
     for gamma in [g, -g] {
-        let z = w4 * alpha + w5 * beta + n * gamma;
-        let q5 = angle_to(&w5, &x, &z);
-        let q4 = angle_to(&w4, &z, &y);
-        let rest = a5.rot(-q5) * a4.rot(-q4) * m;
-        let v = any_normal(&w6);
-        let q6 = angle_to(&w6, &v, &(rest * v));
-        out.push((q4, q5, q6));
+        let z = wa * alpha + wb * beta + n * gamma;
+        out.push((angle_to(wa, &z, y), angle_to(wb, x, &z)));
         if g == 0.0 {
             break;
         }

@@ -17,7 +17,7 @@
 
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
 
-use super::analytic::{angle_to, meet, on_axis, plain_axes, recovers, wrap_pi, wrist, Axis, CONDITION, GEOMETRY_EPS};
+use super::analytic::{meet, on_axis, plain_axes, recovers, two_axes, wrap_pi, wrist, Axis, CONDITION, GEOMETRY_EPS};
 use super::chain::Chain;
 
 /// A closed-form solver for one 7R chain, given joint 7.
@@ -109,28 +109,4 @@ fn distance_angles(axis: &Axis, x: &Vector3<f64>, c: &Vector3<f64>, delta: f64) 
     let dt = cos.clamp(-1.0, 1.0).acos();
     let second = (dt > 1e-12).then_some(theta0 + dt);
     ([Some(theta0 - dt), second], 1.0 - cos.abs() > CONDITION)
-}
-
-/// Subproblem 2: the angles (a, b) with `Rot(wa, a) Rot(wb, b) x = y`, `x` and `y` unit.
-fn two_axes(wa: &Vector3<f64>, wb: &Vector3<f64>, x: &Vector3<f64>, y: &Vector3<f64>) -> (Vec<(f64, f64)>, bool) {
-    // z = Rot(wb) x = Rot(wa)⁻¹ y: wb·z = wb·x, wa·z = wa·y, |z| = 1.
-    let c = wa.dot(wb);
-    let den = 1.0 - c * c;
-    let alpha = (wa.dot(y) - c * wb.dot(x)) / den;
-    let beta = (wb.dot(x) - c * wa.dot(y)) / den;
-    let n = wa.cross(wb);
-    let g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * c) / n.norm_squared();
-    let mut out = Vec::with_capacity(2);
-    if g2 < -1e-9 {
-        return (out, false);
-    }
-    let g = g2.max(0.0).sqrt();
-    for gamma in [g, -g] {
-        let z = wa * alpha + wb * beta + n * gamma;
-        out.push((angle_to(wa, &z, y), angle_to(wb, x, &z)));
-        if g == 0.0 {
-            break;
-        }
-    }
-    (out, g2 > CONDITION)
 }

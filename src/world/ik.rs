@@ -213,14 +213,7 @@ fn closed_form(m: &RobotModel, a: &Analytic, target: &Isometry3<f64>) -> Vec<Con
     let home: [f64; 6] = std::array::from_fn(|k| m.home.get(k).copied().unwrap_or(0.0));
     let mut found = Vec::with_capacity(16);
     gather(m, target, &flange, a.solve_conditioned(&flange), &home, &mut found);
-    found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
-    let mut out: Vec<Config> = Vec::with_capacity(found.len());
-    for (_, _, q) in found {
-        if out.iter().all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > DISTINCT)) {
-            out.push(Config(q.to_vec()));
-        }
-    }
-    out
+    pick(found, &[DISTINCT], usize::MAX)
 }
 
 /// Values of joint 7 the 7R closed form is solved at: home's, then this many spread
@@ -242,13 +235,20 @@ fn closed_form7(m: &RobotModel, r: &Redundant, target: &Isometry3<f64>, max: usi
     for q7 in std::iter::once(home[6].clamp(lo, hi)).chain(spread) {
         gather(m, target, &flange, r.solve_at(&flange, q7), &home, &mut found);
     }
+    pick(found, &[POSTURE, DISTINCT], max)
+}
+
+/// Up to `max` of `found` (see [`gather`]), untouched turns first, then nearest home; in
+/// one pass per entry of `apart`, each taking those farther than it (in some joint)
+/// from every one taken so far.
+fn pick<const N: usize>(mut found: Vec<(f64, bool, [f64; N])>, apart: &[f64], max: usize) -> Vec<Config> {
     found.sort_by(|x, y| x.1.cmp(&y.1).then(x.0.total_cmp(&y.0)));
     let near =
-        |out: &[Config], q: &[f64; 7], d: f64| out.iter().any(|s| s.iter().zip(q).all(|(a, b)| (a - b).abs() <= d));
+        |out: &[Config], q: &[f64; N], d: f64| out.iter().any(|s| s.iter().zip(q).all(|(a, b)| (a - b).abs() <= d));
     let mut out: Vec<Config> = Vec::with_capacity(max.min(found.len()));
-    for pass in [POSTURE, DISTINCT] {
+    for &d in apart {
         for (_, _, q) in &found {
-            if out.len() < max && !near(&out, q, pass) {
+            if out.len() < max && !near(&out, q, d) {
                 out.push(Config(q.to_vec()));
             }
         }
