@@ -429,6 +429,24 @@ fn configuration_target_not_found_speaks_of_the_configuration() {
     insta::assert_snapshot!(render_one(&sources, err, RenderOptions::plain()));
 }
 
+/// A configuration target's query that also grew the free-space trees says what both
+/// searches spent.
+#[test]
+fn configuration_target_given_up_counts_the_free_trees_extensions() {
+    let (scn, _) = scenario(2, 1, None, 0);
+    let budget = declutter::plan::Budget { samples: 5000, max_samples: 5000, extensions: 78_976, timed_out: false };
+    let t = Table::new().null_reach(1, Unreachable::BudgetExhausted(budget));
+    let sol = solve(&scn, &t);
+    let err = sol.outcome.as_ref().unwrap_err();
+    assert!(!err.is_proof());
+    assert_eq!(
+        err.reason(),
+        "no way to `r1 at [0.5, -0.5]` was found within the planning budget: no path for `r1` to the target \
+         configuration was found within the planning budget (`r1`: no path to it within 5000 samples, then 78976 \
+         free-space RRT-Connect extensions)"
+    );
+}
+
 mod random {
     //! On random complete tables: a plan, when there is one, is a valid precedence
     //! order; and there is none exactly when no acyclic derivation exists at all.

@@ -209,6 +209,44 @@ fn ur5_and_panda_mesh_solved_counts_of_the_first_ten_per_family() {
     insta::assert_snapshot!(text.join("\n"));
 }
 
+/// Problems the roadmap alone left unsolved at its default budget, with the planner seed
+/// each failed with (written into the problem as a `planner { seed N }` block): a
+/// budget stop, or (`ur5` 20, `panda` 3) a path through a removable box where the window
+/// was free. The free-space trees grown beside the roadmap from its third round on
+/// (`plan/prm/connect.rs`) find each a path touching nothing.
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn narrow_gaps_the_roadmap_alone_missed_are_solved_without_removals() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-missed");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let Some(robots) = shared_robots() else { return };
+    let cases: &[(Arm, &str, u64, Option<u64>)] = &[
+        (Arm::Panda, "narrow_gap", 37, Some(1)),
+        (Arm::Panda, "narrow_gap", 3, Some(2)),
+        (Arm::Ur5, "narrow_gap", 28, Some(2)),
+        (Arm::Ur5, "narrow_gap", 20, Some(2)),
+        (Arm::PandaMesh, "narrow_gap", 14, Some(1)),
+        (Arm::Ur5, "cage", 26, None),
+    ];
+    let mut got = Vec::new();
+    for &(arm, family, i, seed) in cases {
+        let probe = probe(arm, &robots, &dir).expect("the arm builds on the table");
+        let p = problem(arm, &probe, &robots, &dir, family, i).expect("a clear goal");
+        let path = match seed {
+            Some(s) => {
+                let seeded = dir.join(format!("{arm:?}_{family}_{i}_s{s}.dcl"));
+                let text = format!("{}\nplanner {{\n    seed {s}\n}}\n", p.text);
+                std::fs::write(&seeded, text).expect("writes the seeded problem");
+                seeded
+            }
+            None => p.path.clone(),
+        };
+        got.push(format!("{arm:?} {family} {i} seed {seed:?}: {:?}", solve(&path)));
+    }
+    let want: Vec<String> = cases.iter().map(|(a, f, i, s)| format!("{a:?} {f} {i} seed {s:?}: (true, 0)")).collect();
+    assert_eq!(got, want);
+}
+
 /// Every arm's home is clear on the bare table (a blocked home would make every one of
 /// its problems unsolvable, and the generator would draw nothing).
 #[test]

@@ -80,6 +80,9 @@ pub struct Budget {
     pub samples: u64,
     /// The `max_samples` setting.
     pub max_samples: u64,
+    /// Extension attempts of the free-space RRT-Connect tried after the roadmap (0 when
+    /// it was not: a grasp goal, or the time budget already spent).
+    pub extensions: u64,
     /// Stopped by the `time_budget` setting before `max_samples` was reached.
     pub timed_out: bool,
 }

@@ -184,7 +184,7 @@ impl Oracle for Table {
 
 /// A query that stopped at the default sampling budget without a path (not a proof).
 pub fn gave_up() -> Unreachable {
-    Unreachable::BudgetExhausted(Budget { samples: 5000, max_samples: 5000, timed_out: false })
+    Unreachable::BudgetExhausted(Budget { samples: 5000, max_samples: 5000, extensions: 0, timed_out: false })
 }
 
 /// Figure 2, with O5 free for both robots (Figure 3's solution).

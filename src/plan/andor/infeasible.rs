@@ -192,10 +192,15 @@ fn describe_for(scn: &Scenario, u: &Unreachable, aim: Aim) -> String {
                 Aim::Object => "a grasp",
                 Aim::Config => "it",
             };
+            // The free-space search after the roadmap, when it ran (configuration goals).
+            let then = match b.extensions {
+                0 => String::new(),
+                n => format!(", then {n} free-space RRT-Connect extensions"),
+            };
             if b.timed_out {
-                format!("no path to {to} within `time_budget` ({} samples drawn)", b.samples)
+                format!("no path to {to} within `time_budget` ({} samples drawn{then})", b.samples)
             } else {
-                format!("no path to {to} within {} samples", b.samples)
+                format!("no path to {to} within {} samples{then}", b.samples)
             }
         }
     }

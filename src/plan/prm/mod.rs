@@ -14,6 +14,7 @@
 //! inside rayon tasks without deadlock, and every result is a pure function of the
 //! seed, the roadmap prefix and the goal, whatever the thread count or query order.
 
+mod connect;
 mod goals;
 mod lazy;
 mod shortcut;
@@ -25,7 +26,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use super::layers::{mode_of, node_q, GraspGoal, ModeKey, Node, State};
-use super::roadmap::{mix, Roadmap};
+use super::roadmap::{mix, samples_at, Roadmap};
 use super::search::{Found, Len};
 use super::space::Mode;
 use super::space::Space;
@@ -184,6 +185,10 @@ impl<S: Space> RobotPlanner<S> {
         let mut best: Option<(Cand, usize)> = None;
         let mut timed_out = false;
         let mut last = 0;
+        // A configuration goal's search through free space (see `connect`), set up on
+        // first use; `None` inside when home or the goal touches something.
+        let mut free: Option<connect::FreeConnect> = None;
+        let mut free_ready = false;
         for r in 0..=max_r {
             last = r;
             self.ensure_round(r, stats, checks);
@@ -241,6 +246,28 @@ impl<S: Space> RobotPlanner<S> {
                 let since = if improved { r } else { best.as_ref().unwrap().1 };
                 best = Some((cand.unwrap(), since));
             }
+            // From the third round on, while no path touching nothing is known (and a
+            // first path is not all that was asked for), the free-space trees grow beside
+            // the roadmap: a grasp goal's path has layers a free search does not give.
+            let wanted = match &best {
+                None => true,
+                Some((b, _)) => {
+                    !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
+                }
+            };
+            if let (Goal::Reach(q), true) = (goal, wanted && r > SEARCH_FIRST_ROUNDS) {
+                if !free_ready {
+                    free = connect::FreeConnect::new(self, q, checks);
+                    free_ready = true;
+                }
+                if let Some(f) = free.as_mut() {
+                    let (first, max) = (self.opts.first_batch, self.settings.max_samples);
+                    let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
+                    if let Some(path) = f.grow(self, connect::PER_SAMPLE * drawn, t0, checks) {
+                        return Ok(self.free_path(path, &goals, checks));
+                    }
+                }
+            }
             if let Some((b, since)) = &best {
                 if b.set.is_empty() || self.settings.first_path {
                     break;
@@ -257,7 +284,8 @@ impl<S: Space> RobotPlanner<S> {
         let Some((cand, _)) = best else {
             let samples = self.lock(|s| s.map.rounds.get(last).map_or(0, |e| e.samples), checks);
             let max_samples = self.settings.max_samples as u64;
-            return Err(Unreachable::BudgetExhausted(Budget { samples, max_samples, timed_out }));
+            let extensions = free.map_or(0, |f| f.attempted);
+            return Err(Unreachable::BudgetExhausted(Budget { samples, max_samples, extensions, timed_out }));
         };
         Ok(self.assemble(&cand, object, &goals, checks))
     }
@@ -290,6 +318,18 @@ impl<S: Space> RobotPlanner<S> {
             }
         }
     }
+    /// The answer of a configuration goal from a path touching nothing.
+    fn free_path(&self, path: Vec<Vec<f64>>, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
+        let short = self.shortcut(&path, &Mode::default(), &ObjectSet::new(), checks);
+        FoundPath {
+            grasp: None,
+            approach: JointPath(short.into_iter().map(Config).collect()),
+            retreat: JointPath(Vec::new()),
+            removals: ObjectSet::new(),
+            forced: forced(goals),
+        }
+    }
+
     /// Turns a candidate's layered path into joint paths.
     fn assemble(&self, cand: &Cand, object: Option<ObjectId>, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
         let g = &goals[cand.goal];

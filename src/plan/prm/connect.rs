@@ -1,0 +1,199 @@
+//! A configuration query's second search: RRT-Connect (Kuffner and LaValle, 2000)
+//! through free space, beside the roadmap's rounds once the first ones found no path
+//! touching nothing.
+//!
+//! The lazy roadmap grows uniformly and its goal tree from the goal alone; in a narrow
+//! passage whose goal sits in a pocket (the forearm through a window) it can run out of
+//! samples where two trees pulling towards each other get through. A path found here
+//! touches nothing, so it removes nothing: the fewest removals there are. Each round
+//! from the third on grows the two trees by [`PER_SAMPLE`] extension attempts per
+//! roadmap sample the round draws (so `max_samples` bounds them too), continuing from
+//! where the last round stopped, with its own seeded stream: the trees are a function
+//! of the seed, the goal and the round, as the roadmap is.
+
+use std::time::Instant;
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::super::knn::{dist2, KdTree};
+use super::super::roadmap::mix;
+use super::super::space::{Mode, Space};
+use super::RobotPlanner;
+use crate::world::Check;
+
+/// Extension attempts (each followed by a connect) per sample of `max_samples`.
+pub(super) const PER_SAMPLE: u64 = 16;
+/// Longest extension (radians, Euclidean in joint space), as the goal trees'.
+const STEP: f64 = 0.3;
+/// Nodes scanned one by one beyond those the k-d index holds.
+const TAIL: usize = 64;
+/// The seed stream of this search.
+const STREAM: u64 = 0x636f_6e6e;
+
+/// One tree: flat configurations, each node's parent, and a k-d index of the older nodes.
+struct Tree {
+    dof: usize,
+    qs: Vec<f64>,
+    parent: Vec<u32>,
+    index: Option<(KdTree, usize)>,
+}
+
+impl Tree {
+    fn new(root: &[f64]) -> Tree {
+        Tree { dof: root.len(), qs: root.to_vec(), parent: vec![u32::MAX], index: None }
+    }
+    fn len(&self) -> usize {
+        self.parent.len()
+    }
+    fn q(&self, i: usize) -> &[f64] {
+        &self.qs[i * self.dof..(i + 1) * self.dof]
+    }
+    /// The node nearest `q`; ties go to the older node. The index is rebuilt when the
+    /// nodes it does not hold pass a sixteenth of those it does.
+    fn nearest(&mut self, q: &[f64]) -> usize {
+        let n = self.len();
+        let held = self.index.as_ref().map_or(0, |x| x.1);
+        if n - held > TAIL.max(held / 16) {
+            self.index = Some((KdTree::build(self.dof, &self.qs, n), n));
+        }
+        let (mut best, held) = match &self.index {
+            Some((kd, held)) => {
+                let near = kd.nearest(q, 1, |_| false).first().map(|&(d, i)| (d, i as usize));
+                (near.unwrap_or((f64::INFINITY, 0)), *held)
+            }
+            None => ((f64::INFINITY, 0), 0),
+        };
+        for i in held..n {
+            let d = dist2(self.q(i), q);
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        best.1
+    }
+    fn add(&mut self, q: &[f64], parent: usize) -> usize {
+        self.qs.extend_from_slice(q);
+        self.parent.push(parent as u32);
+        self.len() - 1
+    }
+    /// The configurations from the root to node `i`.
+    fn path_to(&self, mut i: usize) -> Vec<Vec<f64>> {
+        let mut out = vec![self.q(i).to_vec()];
+        while self.parent[i] != u32::MAX {
+            i = self.parent[i] as usize;
+            out.push(self.q(i).to_vec());
+        }
+        out.reverse();
+        out
+    }
+}
+
+enum Grew {
+    Reached(usize),
+    Advanced(usize),
+    Trapped,
+}
+
+/// The two trees of one query and where their search stands.
+pub(super) struct FreeConnect {
+    /// The tree from home, then the one from the goal, while `swapped` is false.
+    a: Tree,
+    b: Tree,
+    swapped: bool,
+    rng: ChaCha8Rng,
+    /// Extension attempts so far.
+    pub(super) attempted: u64,
+}
+
+impl FreeConnect {
+    /// The search from home to `goal`, or `None` when either touches something (no path
+    /// touching nothing can start or end there).
+    pub(super) fn new<S: Space>(p: &RobotPlanner<S>, goal: &[f64], checks: &mut u64) -> Option<FreeConnect> {
+        let home = p.space.home().to_vec();
+        if !p.free(&home, checks) || !p.free(goal, checks) {
+            return None;
+        }
+        let key = mix(&goal.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        let rng = ChaCha8Rng::seed_from_u64(mix(&[p.seed, STREAM, key]));
+        Some(FreeConnect { a: Tree::new(&home), b: Tree::new(goal), swapped: false, rng, attempted: 0 })
+    }
+
+    /// Up to `attempts` more extensions, each followed by a connect of the other tree;
+    /// the path from home to the goal once the trees meet. Stops early at the time
+    /// budget (the clock is read every 64 attempts: a reading costs about a check).
+    pub(super) fn grow<S: Space>(
+        &mut self,
+        p: &RobotPlanner<S>,
+        attempts: u64,
+        t0: Instant,
+        checks: &mut u64,
+    ) -> Option<Vec<Vec<f64>>> {
+        let lim = p.space.limits().to_vec();
+        for k in 0..attempts {
+            if k % 64 == 0 && p.settings.time_budget.is_some_and(|tb| t0.elapsed().as_secs_f64() > tb) {
+                return None;
+            }
+            self.attempted += 1;
+            let aim: Vec<f64> = lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect();
+            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, &aim, checks) {
+                let target = self.a.q(i).to_vec();
+                // Connect: the other tree steps towards the new node until it reaches it or is stopped.
+                loop {
+                    match p.free_step(&mut self.b, &target, checks) {
+                        Grew::Advanced(_) => continue,
+                        Grew::Trapped => break,
+                        Grew::Reached(j) => {
+                            let (mut path, back) = (self.a.path_to(i), self.b.path_to(j));
+                            path.extend(back.into_iter().rev().skip(1));
+                            if self.swapped {
+                                path.reverse();
+                            }
+                            return Some(path);
+                        }
+                    }
+                }
+            }
+            std::mem::swap(&mut self.a, &mut self.b);
+            self.swapped = !self.swapped;
+        }
+        None
+    }
+}
+
+impl<S: Space> RobotPlanner<S> {
+    /// One step of `t` from its node nearest `aim` towards it, kept when the motion
+    /// touches nothing.
+    fn free_step(&self, t: &mut Tree, aim: &[f64], checks: &mut u64) -> Grew {
+        let near = t.nearest(aim);
+        let from = t.q(near).to_vec();
+        let d = dist2(&from, aim).sqrt();
+        let reached = d <= STEP;
+        let to: Vec<f64> = match reached {
+            true => aim.to_vec(),
+            false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * STEP / d).collect(),
+        };
+        if !self.motion_free(&from, &to, checks) {
+            return Grew::Trapped;
+        }
+        let i = t.add(&to, near);
+        if reached {
+            Grew::Reached(i)
+        } else {
+            Grew::Advanced(i)
+        }
+    }
+
+    fn free(&self, q: &[f64], checks: &mut u64) -> bool {
+        matches!(self.space.check(q, &Mode::default(), checks), Check::Touches(l) if l.is_empty())
+    }
+
+    /// The coarse check first (it finds most blocks in a few samples), then the
+    /// certifying one.
+    fn motion_free(&self, a: &[f64], b: &[f64], checks: &mut u64) -> bool {
+        let (res, mode) = (self.settings.resolution, Mode::default());
+        let clear = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
+        clear(self.space.check_segment(a, b, res, &mode, checks))
+            && clear(self.space.check_motion(a, b, res, &mode, checks))
+    }
+}
