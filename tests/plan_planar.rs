@@ -322,8 +322,10 @@ fn exact_minimum_among_150_removable_objects() {
     // by side, the lower one objects 147, 148 and 149; the other 145 lie outside the
     // square. The minimum is {0, 1}: a search that let the ids from 127 up share one
     // bit would count the lower gap as one object and pick it.
+    // The wall's ends reach past the square: a path along its edge (y = 1 exactly, where
+    // the free trees' aims are clamped) must not pass by a rounding of 1.0 - 0.95.
     let wall =
-        vec![Rect::aabb(0.5, 0.05, 0.05, 0.05), Rect::aabb(0.5, 0.5, 0.05, 0.2), Rect::aabb(0.5, 0.95, 0.05, 0.05)];
+        vec![Rect::aabb(0.5, 0.025, 0.05, 0.075), Rect::aabb(0.5, 0.5, 0.05, 0.2), Rect::aabb(0.5, 0.975, 0.05, 0.075)];
     // Each object overlaps its neighbours and the wall a little: no seam to slip through.
     let mut objects = vec![Rect::aabb(0.475, 0.8, 0.027, 0.11), Rect::aabb(0.525, 0.8, 0.027, 0.11)];
     objects.extend((2..147).map(|i| Rect::aabb(2.0 + i as f64, 0.0, 0.01, 0.01)));

@@ -9,7 +9,8 @@
 //! from the third on grows the two trees by [`PER_SAMPLE`] extension attempts per
 //! roadmap sample the round draws (so `max_samples` bounds them too), continuing from
 //! where the last round stopped, with its own seeded stream: the trees are a function
-//! of the seed, the goal and the round, as the roadmap is.
+//! of the seed, the goal and the round, as the roadmap is. As the goal trees do, half
+//! the extensions aim near a node of the growing tree, half at a uniform sample.
 
 use std::time::Instant;
 
@@ -17,15 +18,14 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::super::knn::{dist2, KdTree};
-use super::super::roadmap::mix;
+use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
+use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
 use crate::world::Check;
 
 /// Extension attempts (each followed by a connect) per sample of `max_samples`.
 pub(super) const PER_SAMPLE: u64 = 16;
-/// Longest extension (radians, Euclidean in joint space), as the goal trees'.
-const STEP: f64 = 0.3;
 /// Nodes scanned one by one beyond those the k-d index holds.
 const TAIL: usize = 64;
 /// The seed stream of this search.
@@ -135,7 +135,19 @@ impl FreeConnect {
                 return None;
             }
             self.attempted += 1;
-            let aim: Vec<f64> = lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect();
+            // As the goal trees' (see `goals::local_target`): half the aims near a node of
+            // the growing tree, so that a tree in a pocket spreads through it.
+            let aim: Vec<f64> = if self.rng.random::<f64>() < TREE_LOCAL {
+                let n = self.a.len();
+                let i = ((self.rng.random::<f64>() * n as f64) as usize).min(n - 1);
+                let q = self.a.q(i).to_vec();
+                q.iter()
+                    .zip(&lim)
+                    .map(|(v, (lo, hi))| (v + TREE_SIGMA * normal(&mut self.rng)).clamp(*lo, *hi))
+                    .collect()
+            } else {
+                lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect()
+            };
             if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, &aim, checks) {
                 let target = self.a.q(i).to_vec();
                 // Connect: the other tree steps towards the new node until it reaches it or is stopped.
@@ -168,10 +180,10 @@ impl<S: Space> RobotPlanner<S> {
         let near = t.nearest(aim);
         let from = t.q(near).to_vec();
         let d = dist2(&from, aim).sqrt();
-        let reached = d <= STEP;
+        let reached = d <= TREE_STEP;
         let to: Vec<f64> = match reached {
             true => aim.to_vec(),
-            false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * STEP / d).collect(),
+            false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * TREE_STEP / d).collect(),
         };
         if !self.motion_free(&from, &to, checks) {
             return Grew::Trapped;

@@ -20,11 +20,11 @@ const TREE_MIN: usize = 8;
 const TREE_MAX: usize = 1 << 16;
 /// The share of extensions aimed near a tree node drawn uniformly (see `local_target`);
 /// the rest aim at a uniform sample of the joint space, as RRT's do.
-const TREE_LOCAL: f64 = 0.5;
+pub(super) const TREE_LOCAL: f64 = 0.5;
 /// The spread of those aims: a normal deviate of this many radians per joint.
-const TREE_SIGMA: f64 = 1.0;
+pub(super) const TREE_SIGMA: f64 = 1.0;
 /// Longest step of a tree extension (radians, Euclidean in joint space).
-const TREE_STEP: f64 = 0.3;
+pub(super) const TREE_STEP: f64 = 0.3;
 /// Most steps of one connect march (see `RobotPlanner::connect`).
 const CONNECT_MAX: usize = 64;
 /// Tree nodes scanned one by one beyond those a tree's k-d index holds (see

@@ -228,7 +228,7 @@ const BEHIND: [f64; 3] = [0.8, -0.7, -0.7];
 /// same seed; nothing when the goal touches the door.
 #[test]
 fn the_free_trees_find_the_hole_and_never_the_door() {
-    // (Seed 0 misses the hole in 20 000 attempts; seeds 1 to 7 find it in 11 to 6 681.)
+    // (Seeds 0 to 7 find it in 158 to 11 952 attempts.)
     let p = slit_planner(0.06, 5000, 1);
     let t0 = std::time::Instant::now();
     let mut checks = 0;
@@ -243,7 +243,7 @@ fn the_free_trees_find_the_hole_and_never_the_door() {
     }
     // It crossed the wall, so through the hole (the door touches object 0).
     let crossed = path.windows(2).any(|w| (w[0][0] < 0.0) != (w[1][0] < 0.0));
-    assert!(crossed && search.attempted == 757, "{} attempts", search.attempted);
+    assert!(crossed && search.attempted == 438, "{} attempts", search.attempted);
     let again = super::connect::FreeConnect::new(&slit_planner(0.06, 5000, 1), &BEHIND, &mut 0)
         .and_then(|mut s| s.grow(&p, 20_000, t0, &mut 0));
     assert_eq!(again.as_ref(), Some(&path));
