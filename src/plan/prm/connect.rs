@@ -40,8 +40,11 @@ struct Tree {
 }
 
 impl Tree {
-    fn new(root: &[f64]) -> Tree {
-        Tree { dof: root.len(), qs: root.to_vec(), parent: vec![u32::MAX], index: None }
+    /// A tree of one root per configuration (a forest: several goals).
+    fn new(roots: &[&[f64]]) -> Tree {
+        let dof = roots.first().map_or(0, |r| r.len());
+        let qs = roots.iter().flat_map(|r| r.iter().copied()).collect();
+        Tree { dof, qs, parent: vec![u32::MAX; roots.len()], index: None }
     }
     fn len(&self) -> usize {
         self.parent.len()
@@ -77,15 +80,16 @@ impl Tree {
         self.parent.push(parent as u32);
         self.len() - 1
     }
-    /// The configurations from the root to node `i`.
-    fn path_to(&self, mut i: usize) -> Vec<Vec<f64>> {
+    /// The configurations from its root to node `i`, and the root (roots are the first
+    /// nodes, in the order given).
+    fn path_to(&self, mut i: usize) -> (Vec<Vec<f64>>, usize) {
         let mut out = vec![self.q(i).to_vec()];
         while self.parent[i] != u32::MAX {
             i = self.parent[i] as usize;
             out.push(self.q(i).to_vec());
         }
         out.reverse();
-        out
+        (out, i)
     }
 }
 
@@ -95,40 +99,62 @@ enum Grew {
     Trapped,
 }
 
-/// The two trees of one query and where their search stands.
+/// One RRT-Connect search through free space in one mode: from a start to whichever of
+/// its goals the trees reach first.
 pub(super) struct FreeConnect {
-    /// The tree from home, then the one from the goal, while `swapped` is false.
+    /// The tree from the start, then the goals' forest, while `swapped` is false.
     a: Tree,
     b: Tree,
     swapped: bool,
     rng: ChaCha8Rng,
+    mode: Mode,
+    /// Per root of the goals' forest: the index of its goal among those given.
+    goals: Vec<usize>,
     /// Extension attempts so far.
     pub(super) attempted: u64,
 }
 
 impl FreeConnect {
-    /// The search from home to `goal`, or `None` when either touches something (no path
-    /// touching nothing can start or end there).
-    pub(super) fn new<S: Space>(p: &RobotPlanner<S>, goal: &[f64], checks: &mut u64) -> Option<FreeConnect> {
-        let home = p.space.home().to_vec();
-        if !p.free(&home, checks) || !p.free(goal, checks) {
+    /// The search from `start` to `goals` in `mode`, or `None` when the start or every
+    /// goal touches something (no path touching nothing can start or end there).
+    pub(super) fn new<S: Space>(
+        p: &RobotPlanner<S>,
+        start: &[f64],
+        goals: &[&[f64]],
+        mode: Mode,
+        checks: &mut u64,
+    ) -> Option<FreeConnect> {
+        if goals.is_empty() || !p.free(start, &mode, checks) {
             return None;
         }
-        let key = mix(&goal.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
-        let rng = ChaCha8Rng::seed_from_u64(mix(&[p.seed, STREAM, key]));
-        Some(FreeConnect { a: Tree::new(&home), b: Tree::new(goal), swapped: false, rng, attempted: 0 })
+        let usable: Vec<usize> = (0..goals.len()).filter(|&i| p.free(goals[i], &mode, checks)).collect();
+        if usable.is_empty() {
+            return None;
+        }
+        let roots: Vec<&[f64]> = usable.iter().map(|&i| goals[i]).collect();
+        // Keyed by the goals (each leg of a grasp's path has its own).
+        let bits: Vec<u64> = roots.iter().flat_map(|r| r.iter()).map(|v| v.to_bits()).collect();
+        let rng = ChaCha8Rng::seed_from_u64(mix(&[p.seed, STREAM, mix(&bits)]));
+        let (a, b) = (Tree::new(&[start]), Tree::new(&roots));
+        Some(FreeConnect { a, b, swapped: false, rng, mode, goals: usable, attempted: 0 })
+    }
+
+    /// The mode the search checks in.
+    pub(super) fn mode(&self) -> &Mode {
+        &self.mode
     }
 
     /// Up to `attempts` more extensions, each followed by a connect of the other tree;
-    /// the path from home to the goal once the trees meet. Stops early at the time
-    /// budget (the clock is read every 64 attempts: a reading costs about a check).
+    /// once the trees meet, the path from the start to a goal and that goal's index.
+    /// Stops early at the time budget (the clock is read every 64 attempts: a reading
+    /// costs about a check).
     pub(super) fn grow<S: Space>(
         &mut self,
         p: &RobotPlanner<S>,
         attempts: u64,
         t0: Instant,
         checks: &mut u64,
-    ) -> Option<Vec<Vec<f64>>> {
+    ) -> Option<(Vec<Vec<f64>>, usize)> {
         let lim = p.space.limits().to_vec();
         for k in 0..attempts {
             if k % 64 == 0 && p.settings.time_budget.is_some_and(|tb| t0.elapsed().as_secs_f64() > tb) {
@@ -148,20 +174,23 @@ impl FreeConnect {
             } else {
                 lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect()
             };
-            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, &aim, checks) {
+            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, &aim, &self.mode, checks) {
                 let target = self.a.q(i).to_vec();
                 // Connect: the other tree steps towards the new node until it reaches it or is stopped.
                 loop {
-                    match p.free_step(&mut self.b, &target, checks) {
+                    match p.free_step(&mut self.b, &target, &self.mode, checks) {
                         Grew::Advanced(_) => continue,
                         Grew::Trapped => break,
                         Grew::Reached(j) => {
-                            let (mut path, back) = (self.a.path_to(i), self.b.path_to(j));
+                            let ((mut path, root_a), (back, root_b)) = (self.a.path_to(i), self.b.path_to(j));
                             path.extend(back.into_iter().rev().skip(1));
-                            if self.swapped {
+                            let goal_root = if self.swapped {
                                 path.reverse();
-                            }
-                            return Some(path);
+                                root_a
+                            } else {
+                                root_b
+                            };
+                            return Some((path, self.goals[goal_root]));
                         }
                     }
                 }
@@ -176,7 +205,7 @@ impl FreeConnect {
 impl<S: Space> RobotPlanner<S> {
     /// One step of `t` from its node nearest `aim` towards it, kept when the motion
     /// touches nothing.
-    fn free_step(&self, t: &mut Tree, aim: &[f64], checks: &mut u64) -> Grew {
+    fn free_step(&self, t: &mut Tree, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
         let near = t.nearest(aim);
         let from = t.q(near).to_vec();
         let d = dist2(&from, aim).sqrt();
@@ -185,7 +214,7 @@ impl<S: Space> RobotPlanner<S> {
             true => aim.to_vec(),
             false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * TREE_STEP / d).collect(),
         };
-        if !self.motion_free(&from, &to, checks) {
+        if !self.motion_free(&from, &to, mode, checks) {
             return Grew::Trapped;
         }
         let i = t.add(&to, near);
@@ -196,16 +225,16 @@ impl<S: Space> RobotPlanner<S> {
         }
     }
 
-    fn free(&self, q: &[f64], checks: &mut u64) -> bool {
-        matches!(self.space.check(q, &Mode::default(), checks), Check::Touches(l) if l.is_empty())
+    fn free(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        matches!(self.space.check(q, mode, checks), Check::Touches(l) if l.is_empty())
     }
 
     /// The coarse check first (it finds most blocks in a few samples), then the
     /// certifying one.
-    fn motion_free(&self, a: &[f64], b: &[f64], checks: &mut u64) -> bool {
-        let (res, mode) = (self.settings.resolution, Mode::default());
+    fn motion_free(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        let res = self.settings.resolution;
         let clear = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
-        clear(self.space.check_segment(a, b, res, &mode, checks))
-            && clear(self.space.check_motion(a, b, res, &mode, checks))
+        clear(self.space.check_segment(a, b, res, mode, checks))
+            && clear(self.space.check_motion(a, b, res, mode, checks))
     }
 }

@@ -15,6 +15,7 @@
 //! seed, the roadmap prefix and the goal, whatever the thread count or query order.
 
 mod connect;
+mod free;
 mod goals;
 mod lazy;
 mod shortcut;
@@ -185,9 +186,9 @@ impl<S: Space> RobotPlanner<S> {
         let mut best: Option<(Cand, usize)> = None;
         let mut timed_out = false;
         let mut last = 0;
-        // A configuration goal's search through free space (see `connect`), set up on
-        // first use; `None` inside when home or the goal touches something.
-        let mut free: Option<connect::FreeConnect> = None;
+        // The search through free space (see `connect` and `free`), set up on first use;
+        // `None` inside when home or every goal touches something.
+        let mut free: Option<free::FreeSearch> = None;
         let mut free_ready = false;
         for r in 0..=max_r {
             last = r;
@@ -248,23 +249,23 @@ impl<S: Space> RobotPlanner<S> {
             }
             // From the third round on, while no path touching nothing is known (and a
             // first path is not all that was asked for), the free-space trees grow beside
-            // the roadmap: a grasp goal's path has layers a free search does not give.
+            // the roadmap.
             let wanted = match &best {
                 None => true,
                 Some((b, _)) => {
                     !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
                 }
             };
-            if let (Goal::Reach(q), true) = (goal, wanted && r > SEARCH_FIRST_ROUNDS) {
+            if wanted && r > SEARCH_FIRST_ROUNDS {
                 if !free_ready {
-                    free = connect::FreeConnect::new(self, q, checks);
+                    free = free::FreeSearch::new(self, object, &goals, checks);
                     free_ready = true;
                 }
                 if let Some(f) = free.as_mut() {
                     let (first, max) = (self.opts.first_batch, self.settings.max_samples);
                     let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
-                    if let Some(path) = f.grow(self, connect::PER_SAMPLE * drawn, t0, checks) {
-                        return Ok(self.free_path(path, &goals, checks));
+                    if let Some(found) = f.grow(self, &goals, connect::PER_SAMPLE * drawn, t0, checks) {
+                        return Ok(found);
                     }
                 }
             }
@@ -318,18 +319,6 @@ impl<S: Space> RobotPlanner<S> {
             }
         }
     }
-    /// The answer of a configuration goal from a path touching nothing.
-    fn free_path(&self, path: Vec<Vec<f64>>, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
-        let short = self.shortcut(&path, &Mode::default(), &ObjectSet::new(), checks);
-        FoundPath {
-            grasp: None,
-            approach: JointPath(short.into_iter().map(Config).collect()),
-            retreat: JointPath(Vec::new()),
-            removals: ObjectSet::new(),
-            forced: forced(goals),
-        }
-    }
-
     /// Turns a candidate's layered path into joint paths.
     fn assemble(&self, cand: &Cand, object: Option<ObjectId>, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
         let g = &goals[cand.goal];
