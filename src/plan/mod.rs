@@ -80,8 +80,9 @@ pub struct Budget {
     pub samples: u64,
     /// The `max_samples` setting.
     pub max_samples: u64,
-    /// Extension attempts of the free-space RRT-Connect tried after the roadmap (0 when
-    /// it was not: a grasp goal, or the time budget already spent).
+    /// Extension attempts of the free-space RRT-Connect trees grown beside the roadmap
+    /// (0 when none grew: the query stopped in its first two rounds, or home or every
+    /// goal touches something).
     pub extensions: u64,
     /// Stopped by the `time_budget` setting before `max_samples` was reached.
     pub timed_out: bool,

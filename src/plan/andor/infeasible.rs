@@ -192,7 +192,7 @@ fn describe_for(scn: &Scenario, u: &Unreachable, aim: Aim) -> String {
                 Aim::Object => "a grasp",
                 Aim::Config => "it",
             };
-            // The free-space search after the roadmap, when it ran (configuration goals).
+            // The free-space trees grown beside the roadmap's rounds, when they were.
             let then = match b.extensions {
                 0 => String::new(),
                 n => format!(", then {n} free-space RRT-Connect extensions"),
