@@ -1,13 +1,15 @@
-//! A configuration query's second search: RRT-Connect (Kuffner and LaValle, 2000)
-//! through free space, beside the roadmap's rounds once the first ones found no path
-//! touching nothing.
+//! A query's second search: RRT-Connect (Kuffner and LaValle, 2000) through free
+//! space, beside the roadmap's rounds once the first ones found no path touching
+//! nothing (`free` strings its legs together for a grasp).
 //!
 //! The lazy roadmap grows uniformly and its goal tree from the goal alone; in a narrow
 //! passage whose goal sits in a pocket (the forearm through a window) it can run out of
 //! samples where two trees pulling towards each other get through. A path found here
 //! touches nothing, so it removes nothing: the fewest removals there are. Each round
-//! from the third on grows the two trees by [`PER_SAMPLE`] extension attempts per
-//! roadmap sample the round draws (so `max_samples` bounds them too), continuing from
+//! from the third on grows the two trees by [`PER_SAMPLE_NONE`] extension attempts per
+//! roadmap sample the round draws while the query has no path at all, and by
+//! [`PER_SAMPLE_FEWER`] while it has one with removals (so `max_samples` bounds them
+//! too, and a query with an answer pays less for a better one), continuing from
 //! where the last round stopped, with its own seeded stream: the trees are a function
 //! of the seed, the goal and the round, as the roadmap is. As the goal trees do, half
 //! the extensions aim near a node of the growing tree, half at a uniform sample.
@@ -24,8 +26,11 @@ use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
 use crate::world::Check;
 
-/// Extension attempts (each followed by a connect) per sample of `max_samples`.
-pub(super) const PER_SAMPLE: u64 = 16;
+/// Extension attempts (each followed by a connect) per roadmap sample while the query
+/// has no path: without them it gives up.
+pub(super) const PER_SAMPLE_NONE: u64 = 64;
+/// The same while it has a path with removals: they can only make it remove fewer.
+pub(super) const PER_SAMPLE_FEWER: u64 = 16;
 /// Nodes scanned one by one beyond those the k-d index holds.
 const TAIL: usize = 64;
 /// The seed stream of this search.

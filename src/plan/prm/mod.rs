@@ -264,7 +264,8 @@ impl<S: Space> RobotPlanner<S> {
                 if let Some(f) = free.as_mut() {
                     let (first, max) = (self.opts.first_batch, self.settings.max_samples);
                     let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
-                    if let Some(found) = f.grow(self, &goals, connect::PER_SAMPLE * drawn, t0, checks) {
+                    let per = if best.is_none() { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
+                    if let Some(found) = f.grow(self, &goals, per * drawn, t0, checks) {
                         return Ok(found);
                     }
                 }
