@@ -13,6 +13,39 @@ pub(crate) struct KdTree {
     order: Vec<u32>,
 }
 
+/// The point nearest `q` among the `n` points of a growing set (`point(i)`, `dim`
+/// values each), as an index into it; ties go to the lower index. `index` holds a k-d
+/// tree over the first points, rebuilt when those it does not hold, scanned one by one,
+/// pass `tail` or a sixteenth of those it does.
+pub(crate) fn nearest_growing<'a>(
+    index: &mut Option<(KdTree, usize)>,
+    dim: usize,
+    n: usize,
+    tail: usize,
+    point: impl Fn(usize) -> &'a [f64],
+    q: &[f64],
+) -> usize {
+    let held = index.as_ref().map_or(0, |x| x.1);
+    if n - held > tail.max(held / 16) {
+        let flat: Vec<f64> = (0..n).flat_map(|i| point(i).iter().copied()).collect();
+        *index = Some((KdTree::build(dim, &flat, n), n));
+    }
+    let (mut best, held) = match index {
+        Some((kd, held)) => {
+            let near = kd.nearest(q, 1, |_| false).first().map(|&(d, i)| (d, i as usize));
+            (near.unwrap_or((f64::INFINITY, 0)), *held)
+        }
+        None => ((f64::INFINITY, 0), 0),
+    };
+    for i in held..n {
+        let d = dist2(point(i), q);
+        if d < best.0 {
+            best = (d, i);
+        }
+    }
+    best.1
+}
+
 /// Squared Euclidean distance.
 pub(crate) fn dist2(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()

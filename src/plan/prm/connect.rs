@@ -19,7 +19,7 @@ use std::time::Instant;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::super::knn::{dist2, KdTree};
+use super::super::knn::{dist2, nearest_growing, KdTree};
 use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
@@ -57,28 +57,10 @@ impl Tree {
     fn q(&self, i: usize) -> &[f64] {
         &self.qs[i * self.dof..(i + 1) * self.dof]
     }
-    /// The node nearest `q`; ties go to the older node. The index is rebuilt when the
-    /// nodes it does not hold pass a sixteenth of those it does.
+    /// The node nearest `q`; ties go to the older node.
     fn nearest(&mut self, q: &[f64]) -> usize {
-        let n = self.len();
-        let held = self.index.as_ref().map_or(0, |x| x.1);
-        if n - held > TAIL.max(held / 16) {
-            self.index = Some((KdTree::build(self.dof, &self.qs, n), n));
-        }
-        let (mut best, held) = match &self.index {
-            Some((kd, held)) => {
-                let near = kd.nearest(q, 1, |_| false).first().map(|&(d, i)| (d, i as usize));
-                (near.unwrap_or((f64::INFINITY, 0)), *held)
-            }
-            None => ((f64::INFINITY, 0), 0),
-        };
-        for i in held..n {
-            let d = dist2(self.q(i), q);
-            if d < best.0 {
-                best = (d, i);
-            }
-        }
-        best.1
+        let (dim, qs) = (self.dof, &self.qs);
+        nearest_growing(&mut self.index, dim, self.parent.len(), TAIL, |i| &qs[i * dim..(i + 1) * dim], q)
     }
     fn add(&mut self, q: &[f64], parent: usize) -> usize {
         self.qs.extend_from_slice(q);

@@ -4,7 +4,7 @@
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::super::knn::{dist2, KdTree};
+use super::super::knn::{dist2, nearest_growing};
 use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node, State};
 use super::super::roadmap::{mix, normal, samples_at};
 use super::super::space::{Mode, Space};
@@ -313,32 +313,15 @@ impl<S: Space> RobotPlanner<S> {
 }
 
 /// The node of goal `root`'s tree (the root included) nearest `q`; ties go to the older
-/// node. A k-d tree holds the older nodes and is rebuilt when the newer ones, scanned
-/// one by one, pass a sixteenth of them.
+/// node (see [`nearest_growing`]).
 fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
     let node = |s: &State, i: usize| if i == 0 { root } else { s.goals[root as usize].tree[i - 1].0 };
     let n = 1 + s.goals[root as usize].tree.len();
-    let held = s.goals[root as usize].index.as_ref().map_or(0, |x| x.1);
-    if n - held > INDEX_TAIL.max(held / 16) {
-        let flat: Vec<f64> = (0..n).flat_map(|i| s.goals[node(s, i) as usize].q.clone()).collect();
-        let dof = s.goals[root as usize].q.len();
-        s.goals[root as usize].index = Some((KdTree::build(dof, &flat, n), n));
-    }
-    let (mut best, held) = match &s.goals[root as usize].index {
-        Some((kd, held)) => {
-            let near = kd.nearest(q, 1, |_| false).first().map(|&(d, i)| (d, node(s, i as usize)));
-            (near.unwrap_or((f64::INFINITY, root)), *held)
-        }
-        None => ((f64::INFINITY, root), 0),
-    };
-    for i in held..n {
-        let x = node(s, i);
-        let d = dist2(&s.goals[x as usize].q, q);
-        if d < best.0 {
-            best = (d, x);
-        }
-    }
-    best.1
+    let dof = s.goals[root as usize].q.len();
+    let mut index = s.goals[root as usize].index.take();
+    let i = nearest_growing(&mut index, dof, n, INDEX_TAIL, |i| &s.goals[node(s, i) as usize].q, q);
+    s.goals[root as usize].index = index;
+    node(s, i)
 }
 
 /// An extension's aim near a node of goal `root`'s tree drawn uniformly (the root
