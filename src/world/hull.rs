@@ -6,7 +6,9 @@
 //! and GJK asks several times per pair: on mesh robots those scans were 40 % of a
 //! planning run. On a convex polyhedron a vertex none of whose neighbours is farther along
 //! the direction is the farthest (the edges at a vertex span the cone the whole hull lies
-//! in), so a climb from a good start reaches it in a few steps. The geometry is the
+//! in), so a climb from a good start reaches it in a few steps: the start is looked up in
+//! a cube map of directions, and the climb ends on the vertex parry's scan would return,
+//! ties included, so every query answers exactly as parry's polyhedron. The geometry is the
 //! mesh's convex hull, with the vertices parry's quickhull finds (a mesh that is already
 //! convex keeps its own triangles); every other query is parry's polyhedron's.
 
@@ -18,9 +20,10 @@ use parry3d_f64::shape::{
     ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SharedShape, SubShapeId, SupportMap, TypedShape,
 };
 
-/// Directions whose farthest vertices are the climbs' starting points: the axes and the
-/// cube's diagonals.
-const STARTS: usize = 14;
+/// Cells along each edge of a face of the cube map that gives a climb its start.
+const SIDE: usize = 8;
+/// Cells of the cube map: six faces of `SIDE` by `SIDE`.
+const CELLS: usize = 6 * SIDE * SIDE;
 
 #[derive(Clone)]
 pub(crate) struct Hull {
@@ -28,8 +31,10 @@ pub(crate) struct Hull {
     /// Vertex `v`'s neighbours along the hull's edges: `nbrs[first[v]..first[v + 1]]`.
     first: Vec<u32>,
     nbrs: Vec<u32>,
-    start_dirs: [PVec; STARTS],
-    start_vertex: [u32; STARTS],
+    /// Per cube-map cell, the vertex farthest along the cell's central direction: a climb
+    /// that starts there is a step or two from the top (from a dozen fixed directions it
+    /// was three, each reading eight neighbours).
+    start: Box<[u32; CELLS]>,
 }
 
 /// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
@@ -213,15 +218,54 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedS
         nbrs.extend_from_slice(&own);
     }
     first[n] = nbrs.len() as u32;
-    let mut start_dirs = [PVec::ZERO; STARTS];
-    let axes = [PVec::X, PVec::Y, PVec::Z, -PVec::X, -PVec::Y, -PVec::Z];
-    start_dirs[..6].copy_from_slice(&axes);
-    for (i, d) in start_dirs[6..].iter_mut().enumerate() {
-        let s = |bit: usize| if i & bit == 0 { 1.0 } else { -1.0 };
-        *d = PVec::new(s(1), s(2), s(4)).normalize();
+    let mut hull = Hull { poly, first, nbrs, start: Box::new([0; CELLS]) };
+    // Cell by cell in an order where each is next to the last, each climbed from the
+    // last's vertex: a few steps per cell, where a scan of every vertex would cost
+    // `CELLS` times the vertices.
+    let mut v = 0;
+    for face in 0..6 {
+        for i in 0..SIDE {
+            for k in 0..SIDE {
+                let j = if i % 2 == 0 { k } else { SIDE - 1 - k };
+                let c = face * SIDE * SIDE + i * SIDE + j;
+                v = hull.climb(v, cell_centre(c));
+                hull.start[c] = v as u32;
+            }
+        }
     }
-    let start_vertex = start_dirs.map(|d| scan(poly.points(), d) as u32);
-    Some(SharedShape::new(Hull { poly, first, nbrs, start_dirs, start_vertex }))
+    Some(SharedShape::new(hull))
+}
+
+/// The cube-map cell of a direction: the face of its largest component (ties to the
+/// earlier axis), then where the other two fall on that face. A zero or NaN direction
+/// lands in some cell (the cast saturates); any start is correct, only slower.
+#[inline]
+fn cell(dir: PVec) -> usize {
+    let a = dir.abs();
+    let (axis, major, u, v) = if a.x >= a.y && a.x >= a.z {
+        (0, dir.x, dir.y, dir.z)
+    } else if a.y >= a.z {
+        (1, dir.y, dir.z, dir.x)
+    } else {
+        (2, dir.z, dir.x, dir.y)
+    };
+    let face = 2 * axis + usize::from(major < 0.0);
+    let scale = 0.5 * SIDE as f64 / major.abs();
+    let at = |c: f64| (((c + major.abs()) * scale) as usize).min(SIDE - 1);
+    face * SIDE * SIDE + at(u) * SIDE + at(v)
+}
+
+/// The direction through the middle of cube-map cell `c` (inverse of [`cell`]).
+fn cell_centre(c: usize) -> PVec {
+    let (face, i, j) = (c / (SIDE * SIDE), c / SIDE % SIDE, c % SIDE);
+    let at = |k: usize| (k as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0;
+    let major = if face % 2 == 0 { 1.0 } else { -1.0 };
+    let (u, v) = (at(i), at(j));
+    match face / 2 {
+        0 => PVec::new(major, u, v),
+        1 => PVec::new(v, major, u),
+        _ => PVec::new(u, v, major),
+    }
 }
 
 /// The polyhedron of a hull shape (ours, or parry's own).
@@ -230,6 +274,7 @@ pub(crate) fn polyhedron(s: &dyn Shape) -> Option<&ConvexPolyhedron> {
 }
 
 /// The first farthest point along `dir`, by scanning every point (parry's own rule).
+#[cfg(test)]
 fn scan(points: &[PVec], dir: PVec) -> usize {
     let mut best = 0;
     let mut best_dot = points[0].dot(dir);
@@ -246,46 +291,52 @@ impl Hull {
     /// The index of a vertex farthest along `dir`.
     #[inline]
     pub fn support_index(&self, dir: PVec) -> usize {
+        self.climb(self.start[cell(dir)] as usize, dir)
+    }
+
+    /// From vertex `v`, along the edges to a vertex farthest along `dir`.
+    #[inline]
+    fn climb(&self, mut v: usize, dir: PVec) -> usize {
         let pts = self.poly.points();
-        let mut s = 0;
-        let mut s_dot = f64::NEG_INFINITY;
-        for (i, d) in self.start_dirs.iter().enumerate() {
-            let x = d.dot(dir);
-            if x > s_dot {
-                (s, s_dot) = (i, x);
-            }
-        }
-        let mut v = self.start_vertex[s] as usize;
         let mut best = pts[v].dot(dir);
         loop {
+            let level = best;
             let mut next = v;
+            let mut tie = false;
             for &u in &self.nbrs[self.first[v] as usize..self.first[v + 1] as usize] {
                 let d = pts[u as usize].dot(dir);
-                if d > best {
-                    (next, best) = (u as usize, d);
-                }
+                tie |= d == level;
+                // Selects, not a branch: which neighbour is farther is a coin toss.
+                let farther = d > best;
+                next = if farther { u as usize } else { next };
+                best = if farther { d } else { best };
             }
             if next == v {
-                match self.off_plateau(v, best, dir) {
-                    Some(u) => (next, best) = (u, pts[u].dot(dir)),
-                    None => return v,
+                // Only a neighbour as far as `v` can lead off a plateau.
+                if !tie {
+                    return v;
+                }
+                match self.off_plateau(v, level, dir) {
+                    Plateau::Beyond(u) => (next, best) = (u, pts[u].dot(dir)),
+                    Plateau::Top(u) => return u,
                 }
             }
             v = next;
         }
     }
 
-    /// A vertex farther along `dir` than `v` next to the plateau of vertices exactly as far
-    /// as `v` around it, if there is one. A vertex inside a flat face (a mesh can have them)
-    /// has only neighbours on that face: seen from the face's far side they all tie, and the
-    /// rim of the face is where the climb goes on.
+    /// Leaves the plateau of vertices exactly as far along `dir` as `v` (`level`) around
+    /// it: a vertex farther than it next to the plateau, if there is one, else the
+    /// plateau's least index. A vertex inside a flat face (a mesh can have them) has only
+    /// neighbours on that face: seen from the face's far side they all tie, and the rim of
+    /// the face is where the climb goes on. On top, the least index is the vertex parry's
+    /// scan returns (the first farthest), so that GJK and EPA take the same path with
+    /// either: which of two equally far vertices they are given moves an EPA depth by
+    /// micrometres.
     #[cold]
-    fn off_plateau(&self, v: usize, level: f64, dir: PVec) -> Option<usize> {
+    fn off_plateau(&self, v: usize, level: f64, dir: PVec) -> Plateau {
         let pts = self.poly.points();
         let nbrs = |x: usize| self.nbrs[self.first[x] as usize..self.first[x + 1] as usize].iter().map(|&u| u as usize);
-        if !nbrs(v).any(|u| pts[u].dot(dir) == level) {
-            return None;
-        }
         let mut seen = vec![v];
         let mut i = 0;
         while let Some(&x) = seen.get(i) {
@@ -293,15 +344,22 @@ impl Hull {
             for u in nbrs(x) {
                 let d = pts[u].dot(dir);
                 if d > level {
-                    return Some(u);
+                    return Plateau::Beyond(u);
                 }
                 if d == level && !seen.contains(&u) {
                     seen.push(u);
                 }
             }
         }
-        None
+        Plateau::Top(seen.into_iter().min().unwrap_or(v))
     }
+}
+
+/// Where a climb goes from a plateau: see [`Hull::off_plateau`].
+#[derive(Debug, PartialEq)]
+enum Plateau {
+    Beyond(usize),
+    Top(usize),
 }
 
 impl SupportMap for Hull {

@@ -10,23 +10,60 @@ use parry3d_f64::shape::{Shape, SharedShape};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::{as_convex_mesh, hull_shape, mesh_hull, scan, Hull};
+use super::{as_convex_mesh, cell, cell_centre, hull_shape, mesh_hull, scan, Hull, Plateau, CELLS, SIDE};
 
 fn random_dir(rng: &mut ChaCha8Rng) -> PVec {
     PVec::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
+}
+
+/// Directions where ties are likely and where the cube map's cells meet: the axes, the
+/// cube's diagonals, every cell's centre and corners.
+fn awkward_dirs() -> Vec<PVec> {
+    let mut dirs = vec![PVec::X, PVec::Y, PVec::Z, -PVec::X, -PVec::Y, -PVec::Z];
+    for i in 0..8 {
+        let s = |bit: usize| if i & bit == 0 { 1.0 } else { -1.0 };
+        dirs.push(PVec::new(s(1), s(2), s(4)));
+    }
+    let edge = 2.0 / SIDE as f64;
+    for c in 0..CELLS {
+        let d = cell_centre(c);
+        dirs.push(d);
+        // The corners: step half a cell both ways along the two minor axes.
+        let major = d.abs().max_position();
+        for (du, dv) in [(-0.5, -0.5), (-0.5, 0.5), (0.5, -0.5), (0.5, 0.5)] {
+            let mut x = d;
+            x[(major + 1) % 3] += du * edge;
+            x[(major + 2) % 3] += dv * edge;
+            dirs.push(x);
+        }
+    }
+    dirs
+}
+
+#[test]
+fn each_cell_centre_falls_in_its_own_cell() {
+    for c in 0..CELLS {
+        assert_eq!(cell(cell_centre(c)), c, "{:?}", cell_centre(c));
+    }
+    // By hand: +x is face 0; its centre row and column are SIDE / 2 (the upper half).
+    assert_eq!(cell(PVec::X), SIDE / 2 * SIDE + SIDE / 2);
+    // -z, with y at the face's lower edge and x at its upper: face 5, row SIDE - 1, column 0.
+    assert_eq!(cell(PVec::new(1.0, -1.0, -1.0 - 1e-9)), 5 * SIDE * SIDE + (SIDE - 1) * SIDE);
+    // Degenerate directions land in some cell.
+    for d in [PVec::ZERO, PVec::splat(f64::NAN), PVec::new(f64::INFINITY, 1.0, 0.0)] {
+        assert!(cell(d) < CELLS, "{d:?}");
+    }
 }
 
 fn hull_of(shape: &SharedShape) -> &Hull {
     shape.as_shape::<Hull>().expect("hull_shape makes a Hull")
 }
 
-/// The climb and the scan reach equally far (ties are common along the axes, where
-/// the climb may stop at another vertex of the same face).
+/// The climb returns the scan's vertex: the farthest, and of equally far ones the first
+/// (ties are common along the axes and on flat faces).
 fn assert_climb_matches_scan(h: &Hull, dirs: impl IntoIterator<Item = PVec>, what: &str) {
     for d in dirs {
-        let far = h.poly.points()[scan(h.poly.points(), d)].dot(d);
-        let climbed = super::SupportMap::local_support_point(h, d).dot(d);
-        assert!((far - climbed).abs() <= 1e-12 * (1.0 + far.abs()), "{what}, {d:?}: climbed {climbed}, scan {far}");
+        assert_eq!(h.support_index(d), scan(h.poly.points(), d), "{what}, {d:?}");
     }
 }
 
@@ -47,7 +84,7 @@ fn the_climb_reaches_as_far_as_the_scan() {
             .collect();
         let shape = hull_shape(&pts).expect("a solid hull");
         let h = hull_of(&shape);
-        let mut dirs = h.start_dirs.to_vec();
+        let mut dirs = awkward_dirs();
         dirs.extend((0..500).map(|_| random_dir(&mut rng)));
         assert_climb_matches_scan(h, dirs, &format!("trial {trial}"));
     }
@@ -221,11 +258,19 @@ fn a_climb_leaves_a_flat_face_it_stands_inside() {
     let pts = h.poly.points();
     let centre = pts.iter().position(|p| *p == PVec::ZERO).expect("the centre is a vertex");
     let bottom = pts.iter().position(|p| *p == -PVec::Z).expect("the bottom vertex");
-    assert_eq!(h.off_plateau(centre, 0.0, -PVec::Z), Some(bottom));
-    // Upwards the face is the farthest: nothing beyond it.
-    assert_eq!(h.off_plateau(centre, 0.0, PVec::Z), None);
+    assert_eq!(h.off_plateau(centre, 0.0, -PVec::Z), Plateau::Beyond(bottom));
+    // Upwards the face is the farthest: nothing beyond it, and the answer is the face's
+    // first vertex, as parry's scan's.
+    let first = pts.iter().position(|p| p.z == 0.0).expect("a vertex on the face");
+    assert_eq!(h.off_plateau(centre, 0.0, PVec::Z), Plateau::Top(first));
+    assert_eq!(h.support_index(PVec::Z), first);
+    assert_eq!(h.support_index(PVec::Z), scan(pts, PVec::Z));
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let mut dirs = h.start_dirs.to_vec();
+    let mut dirs = awkward_dirs();
     dirs.extend((0..200).map(|_| random_dir(&mut rng)));
     assert_climb_matches_scan(h, dirs, "flat octahedron");
+    // A direction that is no direction still ends the climb, at some vertex.
+    for d in [PVec::ZERO, PVec::splat(f64::NAN), PVec::new(f64::INFINITY, 1.0, 0.0)] {
+        assert!(h.support_index(d) < pts.len(), "{d:?}");
+    }
 }
