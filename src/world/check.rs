@@ -20,7 +20,7 @@ use parry3d_f64::shape::Shape;
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
-use super::shapes::{aabb_of, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
+use super::shapes::{aabb_of, boxes_intersect, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::RobotId;
@@ -82,7 +82,10 @@ fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2:
         return false;
     }
     match &moving.eroded {
-        Some(e) => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
+        Some(e) => match (e.as_cuboid(), s2.as_cuboid()) {
+            (Some(c1), Some(c2)) => boxes_intersect(c1.half_extents, c2.half_extents, &p1.inv_mul(p2)),
+            _ => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
+        },
         None => collide(p1, &*moving.shape.0, p2, s2),
     }
 }
