@@ -1,8 +1,8 @@
 //! The premises of the replay's skipping ahead, on the shipped arms: a measured distance
 //! is never more than the true one, and between two configurations a pair of shapes
-//! comes closer by at most what the joints' reach bounds allow (all joints against the
-//! scene; against the robot's own links, only the joints that move one and not the other,
-//! each by the reach of the body it moves).
+//! comes closer by at most what the joints' reach bounds allow (against the scene, the
+//! joints that move the body, each by the body's own reach; against the robot's own links,
+//! only the joints that move one and not the other, each by the reach of the body it moves).
 
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::RobotId;
@@ -43,13 +43,16 @@ fn worst_ratio(w: &World, r: RobotId, moves: usize, seed: u64) -> (f64, f64) {
             assert!(closer <= bound + 1e-9, "came {closer} m closer, bound {bound} m (q0 {q0:?}, q1 {q1:?})");
             *worst = worst.max(closer / bound.max(1e-12));
         };
-        // Against the scene: the whole robot's bound.
+        // Against the scene: the joints that move the body, each by the body's own reach
+        // (never more than the whole robot's bound).
         let all = JointReach::displacement(&reach, &dq);
         for (x0, x1) in before.iter().zip(&after) {
+            let own: f64 = (0..dq.len()).map(|j| body_reach[x0.body][j] * dq[j].abs()).sum();
+            assert!(own <= all + 1e-12, "body {}: {own} against the robot's {all}", x0.body);
             for e in &statics {
                 let d0 = shape_distance(&x0.pose, &*x0.shape.0, &e.pose, &*e.shape.0).expect("measured");
                 let d1 = shape_distance(&x1.pose, &*x1.shape.0, &e.pose, &*e.shape.0).expect("measured");
-                judge(&mut worst, d0 - d1, all);
+                judge(&mut worst, d0 - d1, own);
             }
         }
         // Against its own links: the joints between them only, each by the reach of the

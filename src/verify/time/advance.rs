@@ -11,7 +11,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::scene::{Cell, RobotAt, Scratch, Side};
+use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
 
@@ -33,12 +33,25 @@ enum Movers {
     Robot(usize),
     /// The robot's joints marked (its flange, with what it carries, and a body).
     Apart(usize, Vec<bool>),
-    /// The robot's joints, each rate scaled by a weight: two of its own bodies, each joint
-    /// that moves one and not the other weighted by that body's own reach over the reach
-    /// its rate was taken with (0 for the others).
+    /// The robot's joints, each rate scaled by a weight: one body against the scene, each
+    /// joint weighted by the body's own reach over the reach its rate was taken with; two
+    /// of its own bodies, each joint that moves one and not the other weighted so by that
+    /// body's (0 for the others).
     Weighted(usize, Vec<f64>),
     /// Every joint of both robots.
     Robots(usize, usize),
+}
+
+/// A joint's rate weighed by how far it can move `body`'s own points over how far it can
+/// move any (the reach its rate was taken with): the body's points then move no faster
+/// than the weighed rates' sum. A joint whose rate was taken with no reach keeps its rate.
+fn own_weights(g: &RobotGeo, reach: Option<&Vec<f64>>, body: usize) -> Vec<f64> {
+    (0..g.body_joints[body].len())
+        .map(|j| match reach.and_then(|r| r.get(j)) {
+            Some(&r) if r > 0.0 => g.body_reach[body][j] / r,
+            _ => 1.0,
+        })
+        .collect()
 }
 
 /// One pair: its sides, the distance it must keep, and the index of its movers.
@@ -175,8 +188,9 @@ impl Cell<'_> {
     /// How long from the instant last checked (posed in `s`) nothing can come closer than
     /// the checks allow. `rates[r][j]`: how fast joint `j` of robot `r` can move any point
     /// it moves (its reach times its peak speed on the stretch), so that a robot's points
-    /// move at most the sum of its rates, and two of its own bodies apart at most the sum
-    /// over the joints that move one and not the other; `odometers[r][j]`: the integral of
+    /// move at most the sum of its rates, one body's at most the sum of each rate weighed by
+    /// the body's own reach, and two of its own bodies apart at most the sum over the joints
+    /// that move one and not the other; `odometers[r][j]`: the integral of
     /// that rate from the start. Every pair the checks look at is at least its boxes' gap
     /// apart; that gap, less the clearance the pair must keep, shrinks no faster than the
     /// pair moves apart. 0 when a pair is already too close; infinite when nothing moves.
@@ -387,9 +401,15 @@ impl Cell<'_> {
                 }
             };
             let whole = group(Movers::Robot(ri));
+            let weigh = |body: usize| own_weights(g, memory_reach.get(ri), body);
+            // Against the scene a body closes in no faster than its own points move: the
+            // joints below it, each by the body's own reach. A link near the base moves
+            // slowly, whatever the wrist does.
+            let mut own: Vec<Option<usize>> = vec![None; g.bodies.len()];
             for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, false)) {
-                for (i, _) in posed.iter().enumerate().filter(|(_, ps)| g.bodies[ps.body].moving) {
-                    pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Static(e), must: c, movers: whole });
+                for (i, ps) in posed.iter().enumerate().filter(|(_, ps)| g.bodies[ps.body].moving) {
+                    let m = *own[ps.body].get_or_insert_with(|| group(Movers::Weighted(ri, weigh(ps.body))));
+                    pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Static(e), must: c, movers: m });
                 }
             }
             for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, true)) {
