@@ -6,7 +6,8 @@
 //! Narrow phase: overlaps shallower than [`CONTACT_TOLERANCE`] are not collisions,
 //! so a can standing on the table does not touch it. A moving primitive (box,
 //! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
-//! tested with one `intersection_test`; a mesh hull is tested with
+//! tested with one `intersection_test` (a box against a box by the fifteen-axis
+//! separating test, `boxes_intersect`); a mesh hull is tested with
 //! `intersection_test`, then `contact` measures the depth of pairs that intersect.
 
 use std::cell::{Cell, RefCell};
