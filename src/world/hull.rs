@@ -10,9 +10,12 @@
 //! a cube map of directions, and the climb ends on the vertex parry's scan would return,
 //! ties included, so every query answers exactly as parry's polyhedron. The geometry is the
 //! mesh's convex hull, with the vertices parry's quickhull finds (a mesh that is already
-//! convex keeps its own triangles); every other query is parry's polyhedron's.
+//! convex keeps its own triangles); every other query is parry's polyhedron's, built
+//! from the same triangles when one is first asked (most hulls never are).
 
-use parry3d_f64::bounding_volume::{Aabb, BoundingSphere};
+use std::sync::OnceLock;
+
+use parry3d_f64::bounding_volume::{self, Aabb, BoundingSphere};
 use parry3d_f64::mass_properties::MassProperties;
 use parry3d_f64::math::{Pose as PPose, Real, Vector as PVec};
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayIntersection};
@@ -27,7 +30,14 @@ const CELLS: usize = 6 * SIDE * SIDE;
 
 #[derive(Clone)]
 pub(crate) struct Hull {
-    pub poly: ConvexPolyhedron,
+    /// The vertices, in the triangles' indexing.
+    points: Vec<PVec>,
+    triangles: Vec<[u32; 3]>,
+    /// parry's polyhedron of the same vertices and triangles, for the queries other than
+    /// support (point projection, ray casts, drawing), built when one first asks: most
+    /// hulls are never asked, and building it (faces, edges, their adjacency) was nearly
+    /// half of loading a mesh arm.
+    poly: OnceLock<ConvexPolyhedron>,
     /// Vertex `v`'s neighbours along the hull's edges: `nbrs[first[v]..first[v + 1]]`.
     first: Vec<u32>,
     nbrs: Vec<u32>,
@@ -97,7 +107,26 @@ type BuildBitsHasher = std::hash::BuildHasherDefault<BitsHasher>;
 /// The convex hull of `points` as a shape, `None` when it is degenerate (flat or empty).
 pub(crate) fn hull_shape(points: &[PVec]) -> Option<SharedShape> {
     let (vertices, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+    closed(vertices.len(), &triangles).then_some(())?;
     from_triangles(vertices, &triangles)
+}
+
+/// Whether the triangles close a surface: no corner repeated, every directed edge once,
+/// and its reverse once in another triangle.
+fn closed(n: usize, triangles: &[[u32; 3]]) -> bool {
+    if triangles.iter().flatten().any(|&i| i as usize >= n)
+        || triangles.iter().any(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+    {
+        return false;
+    }
+    let (first, out) = outgoing(n, triangles);
+    let from = |a: u32| &out[first[a as usize] as usize..first[a as usize + 1] as usize];
+    (0..n as u32).all(|a| {
+        let edges = from(a);
+        edges.iter().enumerate().all(|(i, &(b, _))| {
+            !edges[..i].iter().any(|e| e.0 == b) && from(b).iter().filter(|e| e.0 == a).count() == 1
+        })
+    })
 }
 
 /// The hull of a mesh that is its own hull (most collision meshes are): its distinct
@@ -194,13 +223,11 @@ fn outgoing(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<(u32, u32)>) {
     (first, out)
 }
 
-/// A hull from its vertices and outward triangles: parry's polyhedron and the edges the
-/// support queries climb.
+/// A hull from its vertices and outward triangles (closed and convex: the callers have
+/// checked) and the edges the support queries climb.
 fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedShape> {
-    let poly = ConvexPolyhedron::from_convex_mesh(vertices, triangles)?;
-    let n = poly.points().len();
-    // The climb indexes the polyhedron's points with the triangles: same order.
-    if triangles.iter().flatten().any(|&i| i as usize >= n) {
+    let n = vertices.len();
+    if n < 4 || triangles.len() < 4 || triangles.iter().flatten().any(|&i| i as usize >= n) {
         return None;
     }
     // Every edge both ways (the triangles and their reversals), grouped by vertex; each
@@ -218,7 +245,14 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedS
         nbrs.extend_from_slice(&own);
     }
     first[n] = nbrs.len() as u32;
-    let mut hull = Hull { poly, first, nbrs, start: Box::new([0; CELLS]) };
+    let mut hull = Hull {
+        points: vertices,
+        triangles: triangles.to_vec(),
+        poly: OnceLock::new(),
+        first,
+        nbrs,
+        start: Box::new([0; CELLS]),
+    };
     // Cell by cell in an order where each is next to the last, each climbed from the
     // last's vertex: a few steps per cell, where a scan of every vertex would cost
     // `CELLS` times the vertices.
@@ -268,9 +302,14 @@ fn cell_centre(c: usize) -> PVec {
     }
 }
 
+/// Whether a shape is a hull (ours, or parry's own polyhedron), without building ours.
+pub(crate) fn is_hull(s: &dyn Shape) -> bool {
+    s.as_convex_polyhedron().is_some() || s.as_shape::<Hull>().is_some()
+}
+
 /// The polyhedron of a hull shape (ours, or parry's own).
 pub(crate) fn polyhedron(s: &dyn Shape) -> Option<&ConvexPolyhedron> {
-    s.as_convex_polyhedron().or_else(|| s.as_shape::<Hull>().map(|h| &h.poly))
+    s.as_convex_polyhedron().or_else(|| s.as_shape::<Hull>().map(Hull::poly))
 }
 
 /// The first farthest point along `dir`, by scanning every point (parry's own rule).
@@ -288,6 +327,24 @@ fn scan(points: &[PVec], dir: PVec) -> usize {
 }
 
 impl Hull {
+    /// The vertices.
+    #[cfg(test)]
+    pub fn points(&self) -> &[PVec] {
+        &self.points
+    }
+
+    /// parry's polyhedron of the hull (built on first use). Its vertices are the hull's, in
+    /// the same order; should parry refuse the triangles, its own hull of the vertices.
+    pub fn poly(&self) -> &ConvexPolyhedron {
+        self.poly.get_or_init(|| {
+            // parry refuses only triangles with a repeated corner or an edge not shared by
+            // exactly two of them, which every hull built here was checked against.
+            ConvexPolyhedron::from_convex_mesh(self.points.clone(), &self.triangles)
+                .or_else(|| ConvexPolyhedron::from_convex_hull(&self.points))
+                .expect("a closed hull's triangles (checked when it was built)")
+        })
+    }
+
     /// The index of a vertex farthest along `dir`.
     #[inline]
     pub fn support_index(&self, dir: PVec) -> usize {
@@ -297,7 +354,7 @@ impl Hull {
     /// From vertex `v`, along the edges to a vertex farthest along `dir`.
     #[inline]
     fn climb(&self, mut v: usize, dir: PVec) -> usize {
-        let pts = self.poly.points();
+        let pts = &self.points;
         let mut best = pts[v].dot(dir);
         loop {
             let level = best;
@@ -335,7 +392,7 @@ impl Hull {
     /// micrometres.
     #[cold]
     fn off_plateau(&self, v: usize, level: f64, dir: PVec) -> Plateau {
-        let pts = self.poly.points();
+        let pts = &self.points;
         let nbrs = |x: usize| self.nbrs[self.first[x] as usize..self.first[x + 1] as usize].iter().map(|&u| u as usize);
         let mut seen = vec![v];
         let mut i = 0;
@@ -365,45 +422,45 @@ enum Plateau {
 impl SupportMap for Hull {
     #[inline]
     fn local_support_point(&self, dir: PVec) -> PVec {
-        self.poly.points()[self.support_index(dir)]
+        self.points[self.support_index(dir)]
     }
 }
 
 impl PointQuery for Hull {
     #[inline]
     fn project_local_point(&self, pt: PVec, solid: bool) -> PointProjection {
-        self.poly.project_local_point(pt, solid)
+        self.poly().project_local_point(pt, solid)
     }
     #[inline]
     fn project_local_point_and_get_feature(&self, pt: PVec) -> (PointProjection, FeatureId) {
-        self.poly.project_local_point_and_get_feature(pt)
+        self.poly().project_local_point_and_get_feature(pt)
     }
 }
 
 impl RayCast for Hull {
     fn cast_local_ray_and_get_normal(&self, ray: &Ray, max_toi: Real, solid: bool) -> Option<RayIntersection> {
-        self.poly.cast_local_ray_and_get_normal(ray, max_toi, solid)
+        self.poly().cast_local_ray_and_get_normal(ray, max_toi, solid)
     }
 }
 
 impl Shape for Hull {
     fn compute_local_aabb(&self) -> Aabb {
-        self.poly.compute_local_aabb()
+        bounding_volume::details::local_point_cloud_aabb_ref(&self.points)
     }
     fn compute_local_bounding_sphere(&self) -> BoundingSphere {
-        self.poly.compute_local_bounding_sphere()
+        bounding_volume::details::point_cloud_bounding_sphere(&self.points)
     }
     fn compute_aabb(&self, position: &PPose) -> Aabb {
-        self.poly.compute_aabb(position)
+        bounding_volume::details::point_cloud_aabb_ref(position, &self.points)
     }
     fn clone_dyn(&self) -> Box<dyn Shape> {
         Box::new(self.clone())
     }
     fn scale_dyn(&self, scale: PVec, num_subdivisions: u32) -> Option<Box<dyn Shape>> {
-        self.poly.scale_dyn(scale, num_subdivisions)
+        self.poly().scale_dyn(scale, num_subdivisions)
     }
     fn mass_properties(&self, density: Real) -> MassProperties {
-        self.poly.mass_properties(density)
+        self.poly().mass_properties(density)
     }
     fn shape_type(&self) -> ShapeType {
         ShapeType::Custom
@@ -412,10 +469,10 @@ impl Shape for Hull {
         TypedShape::Custom(self)
     }
     fn ccd_thickness(&self) -> Real {
-        self.poly.ccd_thickness()
+        self.poly().ccd_thickness()
     }
     fn ccd_angular_thickness(&self) -> Real {
-        self.poly.ccd_angular_thickness()
+        self.poly().ccd_angular_thickness()
     }
     fn is_convex(&self) -> bool {
         true
@@ -424,10 +481,10 @@ impl Shape for Hull {
         Some(self as &dyn SupportMap)
     }
     fn as_polygonal_feature_map(&self) -> Option<(&dyn PolygonalFeatureMap, Real)> {
-        self.poly.as_polygonal_feature_map()
+        self.poly().as_polygonal_feature_map()
     }
     fn feature_normal_at_point(&self, subshape: SubShapeId, feature: FeatureId, point: PVec) -> Option<PVec> {
-        self.poly.feature_normal_at_point(subshape, feature, point)
+        self.poly().feature_normal_at_point(subshape, feature, point)
     }
 }
 

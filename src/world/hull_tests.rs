@@ -10,7 +10,7 @@ use parry3d_f64::shape::{Shape, SharedShape};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::{as_convex_mesh, cell, cell_centre, hull_shape, mesh_hull, scan, Hull, Plateau, CELLS, SIDE};
+use super::{as_convex_mesh, cell, cell_centre, closed, hull_shape, mesh_hull, scan, Hull, Plateau, CELLS, SIDE};
 
 fn random_dir(rng: &mut ChaCha8Rng) -> PVec {
     PVec::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
@@ -63,7 +63,7 @@ fn hull_of(shape: &SharedShape) -> &Hull {
 /// (ties are common along the axes and on flat faces).
 fn assert_climb_matches_scan(h: &Hull, dirs: impl IntoIterator<Item = PVec>, what: &str) {
     for d in dirs {
-        assert_eq!(h.support_index(d), scan(h.poly.points(), d), "{what}, {d:?}");
+        assert_eq!(h.support_index(d), scan(h.points(), d), "{what}, {d:?}");
     }
 }
 
@@ -125,7 +125,7 @@ const GJK_ACCURACY: f64 = 1e-7;
 /// Same verdict, distance and depth from GJK whichever support function the hull uses.
 fn assert_queries_agree(pose: &PPose, a: &Hull, b: &dyn Shape, what: &str) -> bool {
     let id = PPose::IDENTITY;
-    let poly: &dyn Shape = &a.poly;
+    let poly: &dyn Shape = a.poly();
     let hit = |s: &dyn Shape| query::intersection_test(&id, s, pose, b).expect("convex pair").intersecting;
     assert_eq!(hit(a), hit(poly), "{what}: intersection at {pose:?}");
     let dist = |s: &dyn Shape| super::super::proximity::shape_distance(&id, s, pose, b).expect("convex pair");
@@ -170,7 +170,7 @@ fn every_shared_collision_mesh_answers_as_parrys_hull() {
                     k
                 };
                 let parry_pts = parry.as_convex_polyhedron().expect("parry's hull").points();
-                assert_eq!(key(hull_of(&shape).poly.points()), key(parry_pts), "{}: hull vertices", p.display());
+                assert_eq!(key(hull_of(&shape).points()), key(parry_pts), "{}: hull vertices", p.display());
                 (p.display().to_string(), shape)
             })
             .collect();
@@ -178,7 +178,7 @@ fn every_shared_collision_mesh_answers_as_parrys_hull() {
         for (i, (name, shape)) in hulls.iter().enumerate() {
             let h = hull_of(shape);
             assert_climb_matches_scan(h, (0..2000).map(|_| random_dir(&mut rng)), name);
-            let aabb = h.poly.local_aabb();
+            let aabb = h.poly().local_aabb();
             let others: [SharedShape; 4] = [
                 SharedShape::cuboid(0.05, 0.2, 0.01),
                 SharedShape::cylinder(0.1, 0.03),
@@ -246,6 +246,29 @@ fn only_closed_outward_convex_meshes_skip_the_hull() {
     assert!(as_convex_mesh(&points, &[[0, 1, 99]]).is_none(), "bad index");
 }
 
+/// What a quickhull's triangles must be before a hull is built on them without parry's
+/// polyhedron (built later, on first use, from the same triangles): closed.
+#[test]
+fn closed_means_every_edge_twice_once_each_way() {
+    let (vertices, tris) = as_convex_mesh(&octahedron().0, &octahedron().1).expect("convex");
+    assert!(closed(vertices.len(), &tris));
+    assert!(!closed(vertices.len(), &tris[1..]), "a triangle missing");
+    let mut doubled = tris.clone();
+    doubled.push(tris[0]);
+    assert!(!closed(vertices.len(), &doubled), "a triangle twice");
+    let mut repeated = tris.clone();
+    repeated[0] = [tris[0][0], tris[0][0], tris[0][1]];
+    assert!(!closed(vertices.len(), &repeated), "a corner repeated");
+    assert!(!closed(3, &tris), "an index past the vertices");
+    // The hull of a cloud: closed, and parry's polyhedron of it, built on first use, has
+    // the same vertices in the same order.
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let cloud: Vec<PVec> = (0..200).map(|_| random_dir(&mut rng)).collect();
+    let shape = hull_shape(&cloud).expect("a solid hull");
+    let h = hull_of(&shape);
+    assert_eq!(h.poly().points(), h.points());
+}
+
 /// The flattened octahedron's centre is a vertex inside its top face: seen from below,
 /// its neighbours (the face's corners) all tie with it, and the climb must go on from the
 /// face's rim to the bottom vertex.
@@ -255,7 +278,7 @@ fn a_climb_leaves_a_flat_face_it_stands_inside() {
     let flat: Vec<PVec> = points.iter().map(|p| if *p == PVec::Z { PVec::ZERO } else { *p }).collect();
     let shape = super::convex_mesh_shape(&flat, &triangles).expect("convex");
     let h = hull_of(&shape);
-    let pts = h.poly.points();
+    let pts = h.points();
     let centre = pts.iter().position(|p| *p == PVec::ZERO).expect("the centre is a vertex");
     let bottom = pts.iter().position(|p| *p == -PVec::Z).expect("the bottom vertex");
     assert_eq!(h.off_plateau(centre, 0.0, -PVec::Z), Plateau::Beyond(bottom));

@@ -59,7 +59,7 @@ impl Placed {
         let eroded = erode(&shape, CONTACT_TOLERANCE);
         let obb = Obb::of(&*shape.0);
         let eroded_obb = eroded.as_ref().map(|e| Obb::of(&*e.0));
-        let boxed = match (super::hull::polyhedron(&*shape.0), shape.as_ball()) {
+        let boxed = match (super::hull::is_hull(&*shape.0).then_some(()), shape.as_ball()) {
             (Some(_), _) => Boxed::Hull,
             (None, Some(b)) => Boxed::Ball(b.radius),
             (None, None) => Boxed::Other,
