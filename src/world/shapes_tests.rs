@@ -29,52 +29,46 @@ fn face_gap_by_corners(a: PVec, b: PVec, pos12: &PPose) -> f64 {
     [PVec::X, PVec::Y, PVec::Z].into_iter().chain(b_axes).map(gap_along).fold(f64::MIN, f64::max)
 }
 
+/// A vector with each coordinate in `lo..hi`.
+fn vector(lo: f64, hi: f64) -> impl Strategy<Value = PVec> {
+    (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| PVec::new(x, y, z))
+}
+
+/// A rotation about a random axis by up to a turn either way.
+fn turn() -> impl Strategy<Value = Rotation> {
+    (vector(-1.0, 1.0).prop_filter("an axis", |a| a.length() > 1e-3), -3.2f64..3.2)
+        .prop_map(|(axis, angle)| Rotation::from_axis_angle(axis.normalize(), angle))
+}
+
+/// Two boxes' half extents and the second's pose in the first's frame, its centre within
+/// `reach` along each axis.
+fn two_boxes(reach: f64) -> impl Strategy<Value = (PVec, PVec, PPose)> {
+    (vector(0.01, 1.0), vector(0.01, 1.0), vector(-reach, reach), turn())
+        .prop_map(|(a, b, t, rot)| (a, b, PPose::from_parts(t, rot)))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(4000))]
     /// `faces_separate` says apart exactly when some face normal separates the boxes
     /// (away from the boundary, where rounding may go either way).
     #[test]
-    fn faces_separate_as_the_corners_say(
-        a in (0.01f64..1.0, 0.01f64..1.0, 0.01f64..1.0),
-        b in (0.01f64..1.0, 0.01f64..1.0, 0.01f64..1.0),
-        t in (-2.0f64..2.0, -2.0f64..2.0, -2.0f64..2.0),
-        axis in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
-        angle in -3.2f64..3.2,
-    ) {
-        let (a, b) = (PVec::new(a.0, a.1, a.2), PVec::new(b.0, b.1, b.2));
-        let axis = PVec::new(axis.0, axis.1, axis.2);
-        prop_assume!(axis.length() > 1e-3);
-        let pos12 = PPose::from_parts(PVec::new(t.0, t.1, t.2), Rotation::from_axis_angle(axis.normalize(), angle));
+    fn faces_separate_as_the_corners_say((a, b, pos12) in two_boxes(2.0)) {
         let gap = face_gap_by_corners(a, b, &pos12);
         prop_assume!(gap.abs() > 1e-9);
         prop_assert_eq!(faces_separate(a, b, &pos12), gap > 0.0, "gap {}", gap);
     }
-}
 
-proptest! {
-    #![proptest_config(ProptestConfig::with_cases(4000))]
     /// `boxes_intersect` answers as parry's exact test of two cuboids, away from
     /// touching (the distance between them, by GJK, beyond 1e-9).
     #[test]
-    fn boxes_intersect_as_parry_says(
-        a in (0.01f64..1.0, 0.01f64..1.0, 0.01f64..1.0),
-        b in (0.01f64..1.0, 0.01f64..1.0, 0.01f64..1.0),
-        t in (-1.5f64..1.5, -1.5f64..1.5, -1.5f64..1.5),
-        axis in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
-        angle in -3.2f64..3.2,
-        square in 0usize..4,
-    ) {
-        let (a, b) = (PVec::new(a.0, a.1, a.2), PVec::new(b.0, b.1, b.2));
-        let axis = PVec::new(axis.0, axis.1, axis.2);
-        prop_assume!(axis.length() > 1e-3);
+    fn boxes_intersect_as_parry_says((a, b, turned) in two_boxes(1.5), quarters in -2i32..=2, square in 0usize..4) {
         // A quarter of the cases turn about a box axis only, by a multiple of 90
         // degrees: parallel edges, where the crossed axes vanish.
-        let rot = if square == 0 {
-            Rotation::from_rotation_z((angle * 2.0 / std::f64::consts::PI).round() * std::f64::consts::FRAC_PI_2)
+        let pos12 = if square == 0 {
+            PPose::from_parts(turned.translation, Rotation::from_rotation_z(f64::from(quarters) * std::f64::consts::FRAC_PI_2))
         } else {
-            Rotation::from_axis_angle(axis.normalize(), angle)
+            turned
         };
-        let pos12 = PPose::from_parts(PVec::new(t.0, t.1, t.2), rot);
         let (ca, cb) = (Cuboid::new(a), Cuboid::new(b));
         let d = parry3d_f64::query::distance(&PPose::IDENTITY, &ca, &pos12, &cb).expect("convex").distance;
         let deep = parry3d_f64::query::contact(&PPose::IDENTITY, &ca, &pos12, &cb, 0.0).expect("convex");
