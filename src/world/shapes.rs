@@ -138,19 +138,7 @@ impl Obb {
 /// twice) measures each axis through support points and was a quarter of a check.
 #[inline]
 pub(crate) fn faces_separate(a: PVec, b: PVec, pos12: &PPose) -> bool {
-    let r = parry3d_f64::math::Matrix::from_quat(pos12.rotation);
-    let t = pos12.translation;
-    // Column j of `r` is b's axis j in a's frame.
-    let abs = [r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs()];
-    // Along a's axis i, b reaches sum_j b_j |r_ij| from its centre.
-    let reach_b = abs[0] * b.x + abs[1] * b.y + abs[2] * b.z;
-    if (t.abs() - a - reach_b).max_element() > 0.0 {
-        return true;
-    }
-    // Along b's axis j, a reaches sum_i a_i |r_ij|.
-    let along_b = PVec::new(t.dot(r.x_axis), t.dot(r.y_axis), t.dot(r.z_axis));
-    let reach_a = PVec::new(a.dot(abs[0]), a.dot(abs[1]), a.dot(abs[2]));
-    (along_b.abs() - b - reach_a).max_element() > 0.0
+    TwoBoxes::new(a, b, pos12, 0.0).faces_apart()
 }
 
 /// Slack added to the turned axes' absolute cosines in [`boxes_intersect`]: where an
@@ -166,38 +154,63 @@ const PARALLEL_SLACK: f64 = 1e-10;
 /// points at several times the cost; robots of boxes against scenes of boxes ask it most.
 #[inline]
 pub(crate) fn boxes_intersect(a: PVec, b: PVec, pos12: &PPose) -> bool {
-    let m = parry3d_f64::math::Matrix::from_quat(pos12.rotation);
-    // r[i][j]: a's axis i against b's axis j (b's axes are m's columns in a's frame).
-    let r = [
-        [m.x_axis.x, m.y_axis.x, m.z_axis.x],
-        [m.x_axis.y, m.y_axis.y, m.z_axis.y],
-        [m.x_axis.z, m.y_axis.z, m.z_axis.z],
-    ];
-    let abs = r.map(|row| row.map(|x| x.abs() + PARALLEL_SLACK));
-    let (a, b, t) = (a.to_array(), b.to_array(), pos12.translation.to_array());
-    for i in 0..3 {
-        if t[i].abs() > a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2] {
-            return false;
-        }
+    let boxes = TwoBoxes::new(a, b, pos12, PARALLEL_SLACK);
+    !boxes.faces_apart() && !boxes.edges_apart()
+}
+
+/// Two boxes in the first one's frame, as the separating-axis tests read them.
+struct TwoBoxes {
+    a: [f64; 3],
+    b: [f64; 3],
+    /// b's centre.
+    t: [f64; 3],
+    /// `r[i][j]`: a's axis i against b's axis j.
+    r: [[f64; 3]; 3],
+    /// `|r[i][j]|` plus a slack.
+    abs: [[f64; 3]; 3],
+}
+
+impl TwoBoxes {
+    #[inline]
+    fn new(a: PVec, b: PVec, pos12: &PPose, slack: f64) -> TwoBoxes {
+        // b's axes are m's columns in a's frame.
+        let m = parry3d_f64::math::Matrix::from_quat(pos12.rotation);
+        let r = [
+            [m.x_axis.x, m.y_axis.x, m.z_axis.x],
+            [m.x_axis.y, m.y_axis.y, m.z_axis.y],
+            [m.x_axis.z, m.y_axis.z, m.z_axis.z],
+        ];
+        let abs = r.map(|row| row.map(|x| x.abs() + slack));
+        TwoBoxes { a: a.to_array(), b: b.to_array(), t: pos12.translation.to_array(), r, abs }
     }
-    for j in 0..3 {
-        let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-        if along.abs() > b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j] {
-            return false;
-        }
+
+    /// A face normal of either box separates them.
+    #[inline]
+    fn faces_apart(&self) -> bool {
+        let TwoBoxes { a, b, t, r, abs } = self;
+        // Along a's axis i, b reaches sum_j b_j |r_ij| from its centre.
+        (0..3).any(|i| t[i].abs() > a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2])
+            // Along b's axis j, a reaches sum_i a_i |r_ij|.
+            || (0..3).any(|j| {
+                let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+                along.abs() > b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j]
+            })
     }
-    for i in 0..3 {
-        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        for j in 0..3 {
-            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-            let reach_a = a[i1] * abs[i2][j] + a[i2] * abs[i1][j];
-            let reach_b = b[j1] * abs[i][j2] + b[j2] * abs[i][j1];
-            if (t[i2] * r[i1][j] - t[i1] * r[i2][j]).abs() > reach_a + reach_b {
-                return false;
-            }
-        }
+
+    /// A cross of an edge of each separates them.
+    #[inline]
+    fn edges_apart(&self) -> bool {
+        let TwoBoxes { a, b, t, r, abs } = self;
+        (0..3).any(|i| {
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            (0..3).any(|j| {
+                let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+                let reach_a = a[i1] * abs[i2][j] + a[i2] * abs[i1][j];
+                let reach_b = b[j1] * abs[i][j2] + b[j2] * abs[i][j1];
+                (t[i2] * r[i1][j] - t[i1] * r[i2][j]).abs() > reach_a + reach_b
+            })
+        })
     }
-    true
 }
 
 /// A primitive shrunk by `t` on every side (never below half its size); `None` for meshes.

@@ -42,16 +42,15 @@ enum Movers {
     Robots(usize, usize),
 }
 
-/// A joint's rate weighed by how far it can move `body`'s own points over how far it can
-/// move any (the reach its rate was taken with): the body's points then move no faster
-/// than the weighed rates' sum. A joint whose rate was taken with no reach keeps its rate.
-fn own_weights(g: &RobotGeo, reach: Option<&Vec<f64>>, body: usize) -> Vec<f64> {
-    (0..g.body_joints[body].len())
-        .map(|j| match reach.and_then(|r| r.get(j)) {
-            Some(&r) if r > 0.0 => g.body_reach[body][j] / r,
-            _ => 1.0,
-        })
-        .collect()
+/// Joint `j`'s rate weighed by how far it can move `body`'s own points over how far it
+/// can move any (the reach its rate was taken with): the body's points then move no
+/// faster than the weighed rates' sum. A joint whose rate was taken with no reach keeps
+/// its rate as it is.
+fn own_weight(g: &RobotGeo, reach: Option<&Vec<f64>>, body: usize, j: usize) -> f64 {
+    match reach.and_then(|r| r.get(j)) {
+        Some(&r) if r > 0.0 => g.body_reach[body][j] / r,
+        _ => 1.0,
+    }
 }
 
 /// One pair: its sides, the distance it must keep, and the index of its movers.
@@ -401,7 +400,9 @@ impl Cell<'_> {
                 }
             };
             let whole = group(Movers::Robot(ri));
-            let weigh = |body: usize| own_weights(g, memory_reach.get(ri), body);
+            let weigh = |body: usize| -> Vec<f64> {
+                (0..g.body_joints[body].len()).map(|j| own_weight(g, memory_reach.get(ri), body, j)).collect()
+            };
             // Against the scene a body closes in no faster than its own points move: the
             // joints below it, each by the body's own reach. A link near the base moves
             // slowly, whatever the wrist does.
@@ -426,11 +427,7 @@ impl Cell<'_> {
                             (false, true) => b,
                             _ => return 0.0,
                         };
-                        // A joint whose rate was taken with no reach keeps its rate as it is.
-                        match memory_reach.get(ri).and_then(|r| r.get(j)) {
-                            Some(&reach) if reach > 0.0 => g.body_reach[moved][j] / reach,
-                            _ => 1.0,
-                        }
+                        own_weight(g, memory_reach.get(ri), moved, j)
                     })
                     .collect();
                 let m = group(Movers::Weighted(ri, weights));
