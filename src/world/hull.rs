@@ -111,22 +111,38 @@ pub(crate) fn hull_shape(points: &[PVec]) -> Option<SharedShape> {
     from_triangles(vertices, &triangles)
 }
 
-/// Whether the triangles close a surface: no corner repeated, every directed edge once,
-/// and its reverse once in another triangle.
+/// Whether the triangles close a surface (see [`closed_edges`]).
 fn closed(n: usize, triangles: &[[u32; 3]]) -> bool {
+    closed_edges(n, triangles).is_some()
+}
+
+/// Directed edges grouped by first vertex: `(first, edges)`, see [`closed_edges`].
+type ClosedEdges = (Vec<u32>, Vec<(u32, u32, u32)>);
+
+/// When the triangles close a surface (no corner repeated, every directed edge once, and
+/// its reverse once in another triangle): their directed edges grouped by first vertex,
+/// those of `a` being `edges[first[a]..first[a + 1]]`, each as (second vertex, its
+/// triangle, the triangle of its reverse). `None` otherwise.
+fn closed_edges(n: usize, triangles: &[[u32; 3]]) -> Option<ClosedEdges> {
     if triangles.iter().flatten().any(|&i| i as usize >= n)
         || triangles.iter().any(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
     {
-        return false;
+        return None;
     }
     let (first, out) = outgoing(n, triangles);
     let from = |a: u32| &out[first[a as usize] as usize..first[a as usize + 1] as usize];
-    (0..n as u32).all(|a| {
-        let edges = from(a);
-        edges.iter().enumerate().all(|(i, &(b, _))| {
-            !edges[..i].iter().any(|e| e.0 == b) && from(b).iter().filter(|e| e.0 == a).count() == 1
-        })
-    })
+    let mut edges = Vec::with_capacity(out.len());
+    for a in 0..n as u32 {
+        let own = from(a);
+        for (i, &(b, t)) in own.iter().enumerate() {
+            let mut back = from(b).iter().filter(|e| e.0 == a);
+            let (false, Some(&(_, t2)), None) = (own[..i].iter().any(|e| e.0 == b), back.next(), back.next()) else {
+                return None;
+            };
+            edges.push((b, t, t2));
+        }
+    }
+    Some((first, edges))
 }
 
 /// The hull of a mesh that is its own hull (most collision meshes are): its distinct
@@ -158,23 +174,18 @@ fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>,
     }
     // Every directed edge once, and its reverse once in another triangle: closed,
     // manifold, consistently wound.
-    let (first, out) = outgoing(v, &tris);
+    let (first, edges) = closed_edges(v, &tris)?;
     let size = {
         let (lo, hi) = vertices.iter().fold((vertices[0], vertices[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         (hi - lo).length()
     };
-    let from = |a: u32| &out[first[a as usize] as usize..first[a as usize + 1] as usize];
     for a in 0..v as u32 {
-        let edges = from(a);
+        let own = &edges[first[a as usize] as usize..first[a as usize + 1] as usize];
         // A vertex on no triangle may lie anywhere, inside the hull or out.
-        if edges.is_empty() {
+        if own.is_empty() {
             return None;
         }
-        for (i, &(b, t)) in edges.iter().enumerate() {
-            if edges[..i].iter().any(|e| e.0 == b) {
-                return None;
-            }
-            let &(_, t2) = from(b).iter().find(|e| e.0 == a)?;
+        for &(b, t, t2) in own {
             // The other triangle's third vertex must not lie outside this triangle's plane.
             let [x, y, z] = tris[t as usize].map(|i| vertices[i as usize]);
             let other = tris[t2 as usize].into_iter().find(|&i| i != a && i != b)?;
