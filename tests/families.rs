@@ -247,6 +247,46 @@ fn narrow_gaps_the_roadmap_alone_missed_are_solved_without_removals() {
     assert_eq!(got, want);
 }
 
+/// The replay measures a spherized arm's balls a body at a time (one queued pair per body
+/// and static shape, or per two of its bodies): the same instants and the same findings
+/// as every ball pair on its own with each bound taken at every instant, over the first
+/// two Panda sphere-model problems of every family, at clearances 0, 2 cm and 10 cm (where
+/// the shelves come nearer than that).
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn a_spherized_arm_replays_a_body_at_a_time_to_the_instants_of_every_ball_pair() {
+    let Some(robots) = shared_robots() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-units");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let probe = probe(Arm::Panda, &robots, &dir).expect("the arm builds on the table");
+    let outcome = |w: &World, s: &declutter::schedule::Schedule, clearance: f64, every_pair: bool| {
+        let opts = declutter::verify::Options { every_pair, clearance, ..Default::default() };
+        match declutter::verify::verify_with(w, s, &opts) {
+            Ok(summary) => (summary.samples, Vec::new()),
+            Err(found) => (0, found.iter().map(ToString::to_string).collect::<Vec<_>>()),
+        }
+    };
+    let (mut cases, mut instants, mut findings) = (0, 0, 0);
+    for family in FAMILIES {
+        for i in 0..2 {
+            let p = problem(Arm::Panda, &probe, &robots, &dir, family, i).expect("a goal is drawn");
+            let (w, _) = load(&p.path);
+            let Ok(planned) = declutter::driver::plan_verified(&w, &|_| {}) else { continue };
+            if planned.schedule.status != Status::Solved {
+                continue;
+            }
+            cases += 1;
+            for clearance in [0.0, 0.02, 0.1] {
+                let queued = outcome(&w, &planned.schedule, clearance, false);
+                assert_eq!(queued, outcome(&w, &planned.schedule, clearance, true), "{family} {i} at {clearance}");
+                instants += queued.0;
+                findings += queued.1.len();
+            }
+        }
+    }
+    assert!(cases >= 10 && instants > 1000 && findings > 0, "{cases} cases, {instants} instants, {findings} findings");
+}
+
 /// Every arm's home is clear on the bare table (a blocked home would make every one of
 /// its problems unsolvable, and the generator would draw nothing).
 #[test]

@@ -11,6 +11,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+
 use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
@@ -19,10 +21,11 @@ use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
 /// are in place. The pairs (and their order) are the same while this is.
 type PairSet = (Vec<(Option<(ObjectId, usize)>, Option<ObjectId>)>, usize);
 
-/// One side of a pair: a robot's shape or carried part (robot, index), or a static shape.
+/// One side of a pair: shapes of one robot body (robot, unit: see `Memory::units`) or a
+/// carried part (robot, index), or a static shape.
 #[derive(Clone, Copy)]
 enum Thing {
-    Posed(usize, usize),
+    Unit(usize, usize),
     Held(usize, usize),
     Static(usize),
 }
@@ -74,6 +77,12 @@ pub(super) struct Memory {
     odometer: Vec<f64>,
     /// Per pair this instant: a lower bound on its free time.
     bound: Vec<f64>,
+    /// Per robot: its posed shapes in units, each a body and its shapes' indices among the
+    /// robot's posed shapes. A body of balls only (a spherized link) is one unit: its
+    /// pairs are measured together, ball by ball, and queued once, not once per ball
+    /// (measuring a ball is cheaper than queueing it). Any other shape is a unit of its
+    /// own: measuring it is dear, and its own bound spares it more often.
+    units: Vec<Vec<(usize, Vec<usize>)>>,
     /// Per movers: their pairs' *expiries* (slack plus odometer at the measure: the
     /// odometer reading at which the bound reaches 0), least first. An entry is current
     /// while its stamp is its pair's; a measure stamps the pair anew and queues it again.
@@ -83,8 +92,9 @@ pub(super) struct Memory {
     taken: Vec<(usize, Entry)>,
     /// The pairs changed since the last instant: the next one measures them all.
     fresh: bool,
-    /// Take every pair's bound at every instant, not only the queues' fronts: what the
-    /// queues are tested against.
+    /// Take every pair's bound at every instant, not only the queues' fronts, and every
+    /// shape on its own, not a body of balls as one unit: what the queues and the units
+    /// are tested against.
     pub every_pair: bool,
     /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
     /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
@@ -236,12 +246,30 @@ impl Cell<'_> {
         self.free_time_queued(s, memory)
     }
 
-    fn side<'s>(&'s self, s: &'s Scratch, t: Thing) -> Side<'s> {
-        match t {
-            Thing::Posed(r, i) => Side::of(&s.posed[r][i]),
-            Thing::Held(r, i) => Side::held(&s.held[r][i]),
-            Thing::Static(e) => Side::fixed(&self.statics[e]),
-        }
+    /// The shapes of one side of a pair.
+    fn parts<'s>(
+        &'s self,
+        s: &'s Scratch,
+        units: &'s [Vec<(usize, Vec<usize>)>],
+        t: Thing,
+    ) -> impl Iterator<Item = Side<'s>> + Clone + 's {
+        let (r, many): (usize, &[usize]) = match t {
+            Thing::Unit(r, u) => (r, &units[r][u].1),
+            _ => (0, &[]),
+        };
+        let one = match t {
+            Thing::Unit(..) => None,
+            Thing::Held(r, i) => Some(Side::held(&s.held[r][i])),
+            Thing::Static(e) => Some(Side::fixed(&self.statics[e])),
+        };
+        many.iter().map(move |&i| Side::of(&s.posed[r][i])).chain(one)
+    }
+
+    /// The box around one side of a pair.
+    fn aabb(&self, s: &Scratch, units: &[Vec<(usize, Vec<usize>)>], t: Thing) -> Aabb {
+        let mut parts = self.parts(s, units, t);
+        let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
+        parts.fold(first, |b, p| b.merged(p.aabb))
     }
 
     /// Pair `k`'s bound on its free time: its last slack less the odometer since, or its
@@ -258,29 +286,43 @@ impl Cell<'_> {
         } else if let Some((then, odometer)) = memory.measured[k] {
             (then - (memory.odometer[p.movers] - odometer)) / speed
         } else {
-            let slack = aabb_gap(self.side(s, p.a).aabb, self.side(s, p.b).aabb) - p.must;
+            let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
+            let slack = gap - p.must;
             memory.measured[k] = Some((slack, memory.odometer[p.movers]));
             slack / speed
         }
     }
 
     /// Measures pair `k` (unless its boxes' gap now proves it cannot lower `free`) and
-    /// lowers `free` to its free time.
+    /// lowers `free` to its free time. A side of many shapes is measured shape by shape,
+    /// each shape pair skipped the same way when its own boxes' gap proves it cannot lower
+    /// `free`; the pair keeps the least slack (or gap) of its shape pairs.
     fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
         let p = &memory.pairs[k];
-        let (a, b) = (self.side(s, p.a), self.side(s, p.b));
-        let (speed, now) = (memory.speed[p.movers], memory.odometer[p.movers]);
-        let gap = aabb_gap(a.aabb, b.aabb);
-        if (gap - p.must) / speed >= *free {
+        let (a, b) = (self.parts(s, &memory.units, p.a), self.parts(s, &memory.units, p.b));
+        let (speed, now, must) = (memory.speed[p.movers], memory.odometer[p.movers], p.must);
+        let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
+        if (gap - must) / speed >= *free {
             // The gap is no more than the pair's slack now; keep the tighter bound.
             let stale = memory.measured[k].map_or(f64::NEG_INFINITY, |(then, at)| then - (now - at));
-            memory.measured[k] = Some(((gap - p.must).max(stale), now));
+            memory.measured[k] = Some(((gap - must).max(stale), now));
             return;
         }
-        // A pair parry cannot measure keeps its gap.
-        let d = shape_distance(a.pose, a.shape, b.pose, b.shape).map_or(gap, |d| d.max(gap));
-        memory.measured[k] = Some((d - p.must, now));
-        *free = free.min(((d - p.must) / speed).max(0.0));
+        let mut slack = f64::INFINITY;
+        for x in a {
+            for y in b.clone() {
+                let gap = aabb_gap(x.aabb, y.aabb);
+                if (gap - must) / speed >= *free {
+                    slack = slack.min(gap - must);
+                    continue;
+                }
+                // A pair parry cannot measure keeps its gap.
+                let d = shape_distance(x.pose, x.shape, y.pose, y.shape).map_or(gap, |d| d.max(gap));
+                slack = slack.min(d - must);
+                *free = free.min(((d - must) / speed).max(0.0));
+            }
+        }
+        memory.measured[k] = Some((slack, now));
     }
 
     /// Every pair's bound, the least measured first, then every pair whose bound is below
@@ -383,7 +425,29 @@ impl Cell<'_> {
     /// objects are in place; nothing measured yet.
     fn list_pairs(&self, at: &[RobotAt], present: &ObjectSet, s: &Scratch, memory: &mut Memory) {
         let c = self.clearance;
+        let whole_bodies = !memory.every_pair;
+        memory.units = s
+            .posed
+            .iter()
+            .zip(&self.robots)
+            .map(|(posed, g)| {
+                let balls = |b: usize| {
+                    whole_bodies && posed.iter().filter(|ps| ps.body == b).all(|ps| ps.shape.0.as_ball().is_some())
+                };
+                let mut units: Vec<(usize, Vec<usize>)> = Vec::new();
+                for b in (0..g.bodies.len()).filter(|&b| balls(b)) {
+                    let of: Vec<usize> = (0..posed.len()).filter(|&i| posed[i].body == b).collect();
+                    if !of.is_empty() {
+                        units.push((b, of));
+                    }
+                }
+                units.extend((0..posed.len()).filter(|&i| !balls(posed[i].body)).map(|i| (posed[i].body, vec![i])));
+                units.sort_by_key(|(_, of)| of[0]);
+                units
+            })
+            .collect();
         let (pairs, movers, memory_reach) = (&mut memory.pairs, &mut memory.movers, &memory.reach);
+        let units = &memory.units;
         pairs.clear();
         movers.clear();
         let mut group = |m: Movers| {
@@ -392,7 +456,9 @@ impl Cell<'_> {
         };
         for (ri, ra) in at.iter().enumerate() {
             let g = &self.robots[ri];
-            let (posed, held) = (&s.posed[ri], &s.held[ri]);
+            let held = &s.held[ri];
+            // Each unit, with its body.
+            let bodies = |ri: usize| units[ri].iter().enumerate().map(|(u, (b, _))| (u, *b));
             let checked = |owner: StaticOwner, carried: bool| match owner {
                 StaticOwner::Fixed(_) => true,
                 StaticOwner::Object(o) => {
@@ -408,9 +474,9 @@ impl Cell<'_> {
             // slowly, whatever the wrist does.
             let mut own: Vec<Option<usize>> = vec![None; g.bodies.len()];
             for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, false)) {
-                for (i, ps) in posed.iter().enumerate().filter(|(_, ps)| g.bodies[ps.body].moving) {
-                    let m = *own[ps.body].get_or_insert_with(|| group(Movers::Weighted(ri, weigh(ps.body))));
-                    pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Static(e), must: c, movers: m });
+                for (u, b) in bodies(ri).filter(|&(_, b)| g.bodies[b].moving) {
+                    let m = *own[b].get_or_insert_with(|| group(Movers::Weighted(ri, weigh(b))));
+                    pairs.push(Pair { a: Thing::Unit(ri, u), b: Thing::Static(e), must: c, movers: m });
                 }
             }
             for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, true)) {
@@ -431,25 +497,24 @@ impl Cell<'_> {
                     })
                     .collect();
                 let m = group(Movers::Weighted(ri, weights));
-                for (i, _) in posed.iter().enumerate().filter(|(_, x)| x.body == a) {
-                    for (k, _) in posed.iter().enumerate().filter(|(_, y)| y.body == b) {
-                        pairs.push(Pair { a: Thing::Posed(ri, i), b: Thing::Posed(ri, k), must: 0.0, movers: m });
+                for (x, _) in bodies(ri).filter(|&(_, x)| x == a) {
+                    for (y, _) in bodies(ri).filter(|&(_, y)| y == b) {
+                        pairs.push(Pair { a: Thing::Unit(ri, x), b: Thing::Unit(ri, y), must: 0.0, movers: m });
                     }
                 }
             }
             for i in 0..held.len() {
-                for (k, ps) in posed.iter().enumerate().filter(|(_, ps)| !g.bodies[ps.body].holds) {
-                    let m = group(Movers::Apart(ri, apart(&g.flange_joints, &g.body_joints[ps.body])));
-                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Posed(ri, k), must: 0.0, movers: m });
+                for (u, b) in bodies(ri).filter(|&(_, b)| !g.bodies[b].holds) {
+                    let m = group(Movers::Apart(ri, apart(&g.flange_joints, &g.body_joints[b])));
+                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Unit(ri, u), must: 0.0, movers: m });
                 }
             }
             for rj in ri + 1..at.len() {
                 let gj = &self.robots[rj];
                 let both = group(Movers::Robots(ri, rj));
-                let mine = (0..posed.len()).map(|i| (Thing::Posed(ri, i), g.bodies[posed[i].body].moving));
+                let mine = bodies(ri).map(|(u, b)| (Thing::Unit(ri, u), g.bodies[b].moving));
                 for (x, xm) in mine.chain((0..held.len()).map(|i| (Thing::Held(ri, i), true))) {
-                    let theirs =
-                        (0..s.posed[rj].len()).map(|k| (Thing::Posed(rj, k), gj.bodies[s.posed[rj][k].body].moving));
+                    let theirs = bodies(rj).map(|(u, b)| (Thing::Unit(rj, u), gj.bodies[b].moving));
                     for (y, ym) in theirs.chain((0..s.held[rj].len()).map(|k| (Thing::Held(rj, k), true))) {
                         if xm || ym {
                             pairs.push(Pair { a: x, b: y, must: c, movers: both });

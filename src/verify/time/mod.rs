@@ -129,8 +129,9 @@ pub struct ReplayOptions {
     /// is tested against (it finds the same, at the same instants).
     pub every_step: bool,
     /// Take every pair's bound at every instant when skipping ahead, rather than only the
-    /// pairs whose bounds can matter: slower, and what the faster way is tested against
-    /// (it measures the same pairs and skips to the same instants).
+    /// pairs whose bounds can matter, and measure every shape pair on its own, rather than
+    /// a spherized body's balls together: slower, and what the faster way is tested
+    /// against (it skips to the same instants).
     pub every_pair: bool,
 }
 
