@@ -8,7 +8,8 @@
 //! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
 //! tested with one `intersection_test` (a box against a box by the fifteen-axis
 //! separating test, `boxes_intersect`); a mesh hull is tested with
-//! `intersection_test`, then `contact` measures the depth of pairs that intersect.
+//! `intersection_test`, then `contact` measures the depth of pairs that intersect,
+//! unless the hull also meets a box shrunk by twice the tolerance (deep: no measure).
 
 use std::cell::{Cell, RefCell};
 
@@ -16,7 +17,7 @@ use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use parry3d_f64::query;
-use parry3d_f64::shape::Shape;
+use parry3d_f64::shape::{Cuboid, Shape};
 
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
@@ -66,12 +67,37 @@ impl CheckCtx {
 pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
     match query::intersection_test(p1, s1, p2, s2) {
         Ok(i) if !i.intersecting => false,
+        _ if surely_deeper(p1, s1, p2, s2) => true,
         _ => match query::contact(p1, s1, p2, s2, 0.0) {
             Ok(Some(c)) => c.dist < -CONTACT_TOLERANCE,
             Ok(None) => false,
             // No depth query for this pair: trust the intersection test.
             Err(_) => true,
         },
+    }
+}
+
+/// Twice [`CONTACT_TOLERANCE`]: how far inside a box [`surely_deeper`] looks.
+const DEEP: f64 = 2.0 * CONTACT_TOLERANCE;
+
+/// Whether two shapes overlap deeper than the tolerance, where one intersection test can
+/// prove it: one is a box, the other convex and meeting the box shrunk by [`DEEP`]. A
+/// point that deep in the box stays in it however the two are moved apart by less than
+/// that, so their penetration depth is at least [`DEEP`]. `false` when not proved (the
+/// caller then measures the depth); most planner samples in a cage of bars are deep in one,
+/// and this spares EPA.
+fn surely_deeper(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
+    let shrunk = |s: &dyn Shape| {
+        let c = s.as_cuboid()?;
+        (c.half_extents.min_element() > DEEP).then(|| Cuboid::new(c.half_extents - PVec::splat(DEEP)))
+    };
+    let meets = |p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape| {
+        query::intersection_test(p1, s1, p2, s2).is_ok_and(|i| i.intersecting)
+    };
+    match (shrunk(s2), s1.as_support_map().is_some(), shrunk(s1), s2.as_support_map().is_some()) {
+        (Some(b), true, _, _) => meets(p1, s1, p2, &b),
+        (_, _, Some(a), true) => meets(p1, &a, p2, s2),
+        _ => false,
     }
 }
 
@@ -501,5 +527,64 @@ mod tests {
         }
         // Not vacuous: the two differ (a box around everything would also pass the above).
         assert!(looser > 0.01 && looser < 3.0, "log volume ratio {looser}");
+    }
+
+    /// The contact definition itself: intersecting, and EPA's depth over the tolerance.
+    fn by_depth(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
+        query::intersection_test(p1, s1, p2, s2).expect("convex").intersecting
+            && query::contact(p1, s1, p2, s2, 0.0).expect("convex").is_some_and(|c| c.dist < -CONTACT_TOLERANCE)
+    }
+
+    #[test]
+    fn a_hull_pressed_into_a_box_face_by_hand() {
+        // A 10 cm cube as a hull, pushed `d` into the top face of a 40 cm box: depth `d`.
+        let corners: Vec<PVec> =
+            (0..8).map(|k| PVec::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64) * 0.1).collect();
+        let hull = SharedShape::convex_hull(&corners).expect("a cube");
+        let table = Cuboid::new(PVec::splat(0.2));
+        let at = |d: f64| PPose::from_translation(PVec::new(-0.05, -0.05, 0.2 - d));
+        for (d, deep, hit) in [(0.003, true, true), (0.0015, false, true), (0.0005, false, false)] {
+            assert_eq!(surely_deeper(&at(d), &*hull.0, &PPose::IDENTITY, &table), deep, "{d}");
+            assert_eq!(surely_deeper(&PPose::IDENTITY, &table, &at(d), &*hull.0), deep, "{d}, the box first");
+            assert_eq!(collide(&at(d), &*hull.0, &PPose::IDENTITY, &table), hit, "{d}");
+        }
+    }
+
+    #[test]
+    fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as_depth_does() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let (mut proved, mut measured) = (0, 0);
+        for _ in 0..20_000 {
+            let pts: Vec<PVec> = (0..12).map(|_| PVec::new(rng.random(), rng.random(), rng.random()) * 0.1).collect();
+            let hull = SharedShape::convex_hull(&pts).expect("a hull of random points");
+            let half = PVec::new(rng.random(), rng.random(), rng.random()) * 0.1 + PVec::splat(0.001);
+            let block = Cuboid::new(half);
+            let axis = PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+            let turn = Rotation::from_scaled_axis(axis * 6.0);
+            // Half anywhere near the box; half pressed into one of its faces (normal `u`)
+            // by 0 to 5 mm (the hull's farthest point against `u` that far inside the
+            // face's plane, somewhere over the face), where shallow overlaps are.
+            let axis = rng.random_range(0..3);
+            let mut u = PVec::ZERO;
+            u[axis] = if rng.random::<bool>() { 1.0 } else { -1.0 };
+            let across = (PVec::new(rng.random(), rng.random(), rng.random()) * 2.0 - PVec::ONE) * half;
+            let lowest = pts.iter().map(|p| turn * *p).min_by(|a, b| a.dot(u).total_cmp(&b.dot(u))).expect("points");
+            let mut sideways = across - lowest;
+            sideways[axis] = 0.0;
+            let pressed = (half[axis] - 0.005 * rng.random::<f64>() - lowest.dot(u)) * u + sideways;
+            let anywhere = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.3;
+            let pose = PPose::from_parts(if rng.random::<bool>() { pressed } else { anywhere }, turn);
+            let (h, id) = (&*hull.0, PPose::IDENTITY);
+            assert_eq!(collide(&pose, h, &id, &block), by_depth(&pose, h, &id, &block), "{pose:?} {half:?}");
+            if surely_deeper(&pose, h, &id, &block) {
+                proved += 1;
+                let depth = -query::contact(&pose, h, &id, &block, 0.0).expect("convex").expect("touching").dist;
+                assert!(depth > DEEP - 1e-9, "EPA {depth} under {DEEP}: {pose:?} {half:?}");
+            } else if query::intersection_test(&pose, h, &id, &block).expect("convex").intersecting {
+                measured += 1;
+            }
+        }
+        // Both ways are taken: proved deep, and left to EPA.
+        assert!(proved > 1000 && measured > 1000, "{proved} proved, {measured} measured");
     }
 }
