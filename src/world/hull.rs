@@ -45,6 +45,9 @@ pub(crate) struct Hull {
     /// that starts there is a step or two from the top (from a dozen fixed directions it
     /// was three, each reading eight neighbours).
     start: Box<[u32; CELLS]>,
+    /// Its own box, parry's point-cloud box of `points` (asked for by the verifier's
+    /// box-gap bound at every measure: a scan of every vertex each time).
+    local_box: Aabb,
 }
 
 /// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
@@ -257,6 +260,7 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedS
     }
     first[n] = nbrs.len() as u32;
     let mut hull = Hull {
+        local_box: bounding_volume::details::local_point_cloud_aabb_ref(&vertices),
         points: vertices,
         triangles: triangles.to_vec(),
         poly: OnceLock::new(),
@@ -456,7 +460,7 @@ impl RayCast for Hull {
 
 impl Shape for Hull {
     fn compute_local_aabb(&self) -> Aabb {
-        bounding_volume::details::local_point_cloud_aabb_ref(&self.points)
+        self.local_box
     }
     fn compute_local_bounding_sphere(&self) -> BoundingSphere {
         bounding_volume::details::point_cloud_bounding_sphere(&self.points)

@@ -46,6 +46,17 @@ pub fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     d.length()
 }
 
+/// A lower bound on the distance between two placed shapes: the gap between their own
+/// boxes (each shape's local box, turned with it) along the boxes' six face normals, at
+/// least 0. Tighter than [`aabb_gap`] for turned shapes (a forearm at 45° fills a world
+/// box twice its size), at the cost of a few dozen products.
+pub fn turned_boxes_gap(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> f64 {
+    let (b1, b2) = (s1.compute_local_aabb(), s2.compute_local_aabb());
+    let c1 = *p1 * PPose::from_translation(b1.center());
+    let c2 = *p2 * PPose::from_translation(b2.center());
+    super::shapes::boxes_face_gap(b1.half_extents(), b2.half_extents(), &c1.inv_mul(&c2)).max(0.0)
+}
+
 /// The distance between two placed shapes (0 when they touch), `None` when parry3d
 /// cannot measure the pair. Balls against balls and boxes in closed form (a spherized
 /// robot is all balls, and GJK on them was most of its replay); other convex shapes are
@@ -217,6 +228,96 @@ mod tests {
                 prop_assert!(d <= gjk + 1e-12 && gjk - d <= 5e-5, "closed form {} against GJK {}", d, gjk);
             }
         }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        /// The turned boxes' gap is a lower bound: never more than GJK's distance (itself
+        /// at or above the distance) for boxes, cylinders and hulls in any placement.
+        #[test]
+        fn turned_boxes_gap_never_exceeds_the_distance(
+            half in (0.01f64..0.4, 0.01f64..0.4, 0.01f64..0.4),
+            radius in 0.01f64..0.3,
+            t in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            axes in ((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)),
+            angles in (-3.2f64..3.2, -3.2f64..3.2),
+            seed in 0u64..1_000_000,
+        ) {
+            let turn = |a: (f64, f64, f64), angle: f64| {
+                let a = Vector::new(a.0, a.1, a.2);
+                parry3d_f64::math::Rotation::from_axis_angle(if a.length() > 1e-3 { a.normalize() } else { Vector::X }, angle)
+            };
+            let p1 = PPose::from_parts(Vector::new(t.0, t.1, t.2), turn(axes.0, angles.0));
+            let p2 = PPose::from_parts(Vector::new(0.1, -0.2, 0.05), turn(axes.1, angles.1));
+            let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed);
+            let cloud: Vec<Vector> = (0..20)
+                .map(|_| Vector::new(rand::RngExt::random(&mut rng), rand::RngExt::random(&mut rng), rand::RngExt::random(&mut rng)) * 0.3)
+                .collect();
+            let hull = SharedShape::convex_hull(&cloud).expect("a hull");
+            let bx = Cuboid::new(Vector::new(half.0, half.1, half.2));
+            let cylinder = parry3d_f64::shape::Cylinder::new(half.2, radius);
+            let shapes: [&dyn Shape; 3] = [&bx, &cylinder, &*hull.0];
+            for a in shapes {
+                for b in shapes {
+                    let (lb, gjk) = (turned_boxes_gap(&p1, a, &p2, b), by_gjk(&p1, a, &p2, b));
+                    prop_assert!(lb >= 0.0 && lb <= gjk + 1e-12, "gap {} over GJK {}", lb, gjk);
+                }
+            }
+        }
+    }
+
+    /// Not vacuous: over seeded placements of a turned box and a turned cylinder, the
+    /// turned boxes' gap is within a fifth of the distance for most apart pairs, the
+    /// world boxes' gap for fewer.
+    #[test]
+    fn turned_boxes_gap_is_mostly_near_the_distance() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut v =
+            |s: f64| Vector::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5) * s;
+        let (mut apart, mut turned_near, mut world_near) = (0, 0, 0);
+        for _ in 0..2000 {
+            let bx = Cuboid::new(v(0.6).abs() + Vector::splat(0.01));
+            let cylinder = parry3d_f64::shape::Cylinder::new(0.3, 0.05);
+            let p1 = PPose::from_parts(v(2.0), parry3d_f64::math::Rotation::from_scaled_axis(v(6.0)));
+            let p2 = PPose::from_parts(v(2.0), parry3d_f64::math::Rotation::from_scaled_axis(v(6.0)));
+            let gjk = by_gjk(&p1, &bx, &p2, &cylinder);
+            if gjk > 0.01 {
+                apart += 1;
+                turned_near += usize::from(turned_boxes_gap(&p1, &bx, &p2, &cylinder) > 0.8 * gjk);
+                world_near += usize::from(aabb_gap(&bx.compute_aabb(&p1), &cylinder.compute_aabb(&p2)) > 0.8 * gjk);
+            }
+        }
+        // Seed 3: 1 957 apart, the turned boxes within a fifth for 1 556, the world's for 1 095.
+        assert!(
+            apart > 1000 && 10 * turned_near >= 7 * apart && 10 * world_near <= 6 * apart,
+            "{apart} apart: {turned_near} turned, {world_near} world boxes within a fifth"
+        );
+    }
+
+    #[test]
+    fn turned_boxes_gap_by_hand() {
+        let unit = Cuboid::new(Vector::splat(0.5));
+        let at = |x: f64, y: f64, z: f64| PPose::from_translation(Vector::new(x, y, z));
+        // Face to face, 1 m apart.
+        assert_eq!(turned_boxes_gap(&PPose::IDENTITY, &unit, &at(2.0, 0.0, 0.0), &unit), 1.0);
+        // Corner to corner, (1, 1, 1) apart: the face normals see 1 of the 1.732.
+        assert_eq!(turned_boxes_gap(&PPose::IDENTITY, &unit, &at(2.0, 2.0, 2.0), &unit), 1.0);
+        // One turned 45° about z, 2 m off along x: it reaches 0.7071 towards the other.
+        let turned = PPose::from_parts(
+            Vector::new(2.0, 0.0, 0.0),
+            parry3d_f64::math::Rotation::from_rotation_z(std::f64::consts::FRAC_PI_4),
+        );
+        let d = turned_boxes_gap(&PPose::IDENTITY, &unit, &turned, &unit);
+        assert!((d - (1.5 - 0.5f64.sqrt())).abs() < 1e-12, "{d}");
+        // Overlapping: 0. A box off its own centre (a cylinder's box is its own; a hull's
+        // is its points'): a hull of one corner cube at (1..2)³ is 1 from the unit box.
+        assert_eq!(turned_boxes_gap(&PPose::IDENTITY, &unit, &at(0.5, 0.0, 0.0), &unit), 0.0);
+        let cube: Vec<Vector> =
+            (0..8).map(|k| Vector::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64)).collect();
+        let hull = SharedShape::convex_hull(&cube).expect("a cube");
+        let d = turned_boxes_gap(&at(1.5, 0.0, -0.5), &*hull.0, &PPose::IDENTITY, &unit);
+        assert!((d - 1.0).abs() < 1e-12, "{d}");
     }
 
     #[test]

@@ -158,6 +158,21 @@ pub(crate) fn boxes_intersect(a: PVec, b: PVec, pos12: &PPose) -> bool {
     !boxes.faces_apart() && !boxes.edges_apart()
 }
 
+/// A lower bound on the distance between boxes `a` and `b` (half extents), `a` at the
+/// origin and `b` at `pos12`: their largest gap along the six face normals (a gap along
+/// any unit axis is no more than the distance); 0 or less when no face normal separates
+/// them.
+#[inline]
+pub(crate) fn boxes_face_gap(a: PVec, b: PVec, pos12: &PPose) -> f64 {
+    let TwoBoxes { a, b, t, r, abs } = TwoBoxes::new(a, b, pos12, 0.0);
+    let along_a = (0..3).map(|i| t[i].abs() - (a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2]));
+    let along_b = (0..3).map(|j| {
+        let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+        along.abs() - (b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j])
+    });
+    along_a.chain(along_b).fold(f64::NEG_INFINITY, f64::max)
+}
+
 /// Two boxes in the first one's frame, as the separating-axis tests read them.
 struct TwoBoxes {
     a: [f64; 3],

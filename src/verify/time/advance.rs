@@ -15,7 +15,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
 use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
 use crate::resolve::ObjectId;
-use crate::world::{aabb_gap, shape_distance, ObjectSet, StaticOwner};
+use crate::world::{aabb_gap, shape_distance, turned_boxes_gap, ObjectSet, StaticOwner};
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
 /// are in place. The pairs (and their order) are the same while this is.
@@ -315,6 +315,15 @@ impl Cell<'_> {
                 if (gap - must) / speed >= *free {
                     slack = slack.min(gap - must);
                     continue;
+                }
+                // Balls are measured in closed form; GJK is dear enough to try the turned
+                // boxes' gap first.
+                if x.shape.as_ball().is_none() && y.shape.as_ball().is_none() {
+                    let turned = turned_boxes_gap(x.pose, x.shape, y.pose, y.shape).max(gap);
+                    if (turned - must) / speed >= *free {
+                        slack = slack.min(turned - must);
+                        continue;
+                    }
                 }
                 // A pair parry cannot measure keeps its gap.
                 let d = shape_distance(x.pose, x.shape, y.pose, y.shape).map_or(gap, |d| d.max(gap));
