@@ -110,11 +110,12 @@ type BuildBitsHasher = std::hash::BuildHasherDefault<BitsHasher>;
 /// The convex hull of `points` as a shape, `None` when it is degenerate (flat or empty).
 pub(crate) fn hull_shape(points: &[PVec]) -> Option<SharedShape> {
     let (vertices, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
-    closed(vertices.len(), &triangles).then_some(())?;
-    from_triangles(vertices, &triangles)
+    let edges = closed_edges(vertices.len(), &triangles)?;
+    from_triangles(vertices, &triangles, &edges)
 }
 
 /// Whether the triangles close a surface (see [`closed_edges`]).
+#[cfg(test)]
 fn closed(n: usize, triangles: &[[u32; 3]]) -> bool {
     closed_edges(n, triangles).is_some()
 }
@@ -155,11 +156,19 @@ fn closed_edges(n: usize, triangles: &[[u32; 3]]) -> Option<ClosedEdges> {
 /// every vertex is on the hull and the triangles cover it. Otherwise the caller builds
 /// the hull.
 pub(crate) fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
-    let (vertices, tris) = as_convex_mesh(points, triangles)?;
-    from_triangles(vertices, &tris)
+    let (vertices, tris, edges) = convex_mesh(points, triangles)?;
+    from_triangles(vertices, &tris, &edges)
 }
 
+/// [`convex_mesh`]'s vertices and triangles.
+#[cfg(test)]
 fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Vec<[u32; 3]>)> {
+    convex_mesh(points, triangles).map(|(vertices, tris, _)| (vertices, tris))
+}
+
+/// A mesh that is its own hull: its distinct vertices, its triangles over them and their
+/// edges (see [`convex_mesh_shape`]).
+fn convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Vec<[u32; 3]>, ClosedEdges)> {
     let (vertices, remap) = dedup(points);
     let mut tris = Vec::with_capacity(triangles.len());
     for t in triangles {
@@ -209,7 +218,7 @@ fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>,
     if volume.is_nan() || volume <= 0.0 {
         return None;
     }
-    Some((vertices, tris))
+    Some((vertices, tris, (first, edges)))
 }
 
 /// The directed edges `a -> b` of the triangles grouped by `a`, each with its triangle:
@@ -238,25 +247,23 @@ fn outgoing(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<(u32, u32)>) {
 }
 
 /// A hull from its vertices and outward triangles (closed and convex: the callers have
-/// checked) and the edges the support queries climb.
-fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]]) -> Option<SharedShape> {
+/// checked, `closed` being the triangles' edges, see [`closed_edges`]) and the edges the
+/// support queries climb.
+fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: &ClosedEdges) -> Option<SharedShape> {
     let n = vertices.len();
     if n < 4 || triangles.len() < 4 || triangles.iter().flatten().any(|&i| i as usize >= n) {
         return None;
     }
-    // Every edge both ways (the triangles and their reversals), grouped by vertex; each
-    // vertex's few neighbours then sorted and deduplicated.
-    let both: Vec<[u32; 3]> = triangles.iter().flat_map(|t| [*t, [t[0], t[2], t[1]]]).collect();
-    let (mut first, out) = outgoing(n, &both);
-    let mut nbrs = Vec::with_capacity(out.len() / 2);
-    let mut own = Vec::new();
+    // A vertex's neighbours: the ends of its directed edges (every edge's reverse is
+    // there too, so these are all of them, each once), sorted.
+    let (edge_first, edges) = closed;
+    let mut first = vec![0u32; n + 1];
+    let mut nbrs = Vec::with_capacity(edges.len());
     for v in 0..n {
-        own.clear();
-        own.extend(out[first[v] as usize..first[v + 1] as usize].iter().map(|e| e.0));
-        own.sort_unstable();
-        own.dedup();
         first[v] = nbrs.len() as u32;
-        nbrs.extend_from_slice(&own);
+        let start = nbrs.len();
+        nbrs.extend(edges[edge_first[v] as usize..edge_first[v + 1] as usize].iter().map(|e| e.0));
+        nbrs[start..].sort_unstable();
     }
     first[n] = nbrs.len() as u32;
     let mut hull = Hull {
