@@ -255,10 +255,8 @@ fn narrow_gaps_the_roadmap_alone_missed_are_solved_without_removals() {
 #[test]
 #[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
 fn a_spherized_arm_replays_a_body_at_a_time_to_the_instants_of_every_ball_pair() {
-    let Some(robots) = shared_robots() else { return };
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-units");
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    let probe = probe(Arm::Panda, &robots, &dir).expect("the arm builds on the table");
+    let Some(solved) = solved_schedules(&[Arm::Panda], 0..2, &dir) else { return };
     let outcome = |w: &World, s: &declutter::schedule::Schedule, clearance: f64, every_pair: bool| {
         let opts = declutter::verify::Options { every_pair, clearance, ..Default::default() };
         match declutter::verify::verify_with(w, s, &opts) {
@@ -266,25 +264,69 @@ fn a_spherized_arm_replays_a_body_at_a_time_to_the_instants_of_every_ball_pair()
             Err(found) => (0, found.iter().map(ToString::to_string).collect::<Vec<_>>()),
         }
     };
-    let (mut cases, mut instants, mut findings) = (0, 0, 0);
-    for family in FAMILIES {
-        for i in 0..2 {
-            let p = problem(Arm::Panda, &probe, &robots, &dir, family, i).expect("a goal is drawn");
-            let (w, _) = load(&p.path);
-            let Ok(planned) = declutter::driver::plan_verified(&w, &|_| {}) else { continue };
-            if planned.schedule.status != Status::Solved {
-                continue;
-            }
-            cases += 1;
-            for clearance in [0.0, 0.02, 0.1] {
-                let queued = outcome(&w, &planned.schedule, clearance, false);
-                assert_eq!(queued, outcome(&w, &planned.schedule, clearance, true), "{family} {i} at {clearance}");
-                instants += queued.0;
-                findings += queued.1.len();
+    let (mut instants, mut findings) = (0, 0);
+    for (name, w, s) in &solved {
+        for clearance in [0.0, 0.02, 0.1] {
+            let queued = outcome(w, s, clearance, false);
+            assert_eq!(queued, outcome(w, s, clearance, true), "{name} at {clearance}");
+            instants += queued.0;
+            findings += queued.1.len();
+        }
+    }
+    let cases = solved.len();
+    assert!(cases >= 10 && instants > 1000 && findings > 0, "{cases} cases, {instants} instants, {findings} findings");
+}
+
+/// The replay's shortcuts on mesh arms (pairs queued by when their bounds run out, the
+/// turned boxes' gap before GJK) against checking every 2 mm step: the same verdict and
+/// the same findings, on the first TX-90 and UR5 problem of every family at clearances
+/// of 2, 5 and 10 cm (where the obstacles come nearer than that, and findings appear).
+#[test]
+#[cfg_attr(debug_assertions, ignore = "slow in debug; run with --release")]
+fn mesh_arms_replay_to_the_findings_of_every_step() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-steps");
+    let Some(solved) = solved_schedules(&[Arm::Tx90, Arm::Ur5], 0..1, &dir) else { return };
+    let found = |w: &World, s: &declutter::schedule::Schedule, clearance: f64, every_step: bool| {
+        let opts = declutter::verify::Options { every_step, clearance, ..Default::default() };
+        declutter::verify::verify_with(w, s, &opts).err().map(|f| f.iter().map(ToString::to_string).collect::<Vec<_>>())
+    };
+    let mut findings = 0;
+    for (name, w, s) in &solved {
+        for clearance in [0.02, 0.05, 0.1] {
+            let skipping = found(w, s, clearance, false);
+            assert_eq!(skipping, found(w, s, clearance, true), "{name} at {clearance}");
+            findings += skipping.map_or(0, |f| f.len());
+        }
+    }
+    let cases = solved.len();
+    assert!(cases >= 10 && findings > 20, "{cases} cases, {findings} findings");
+}
+
+/// The problems `indices` of every family on each of `arms` that plan to a verified
+/// schedule, named, with their worlds; `None` when `../shared/robots` is absent.
+fn solved_schedules(
+    arms: &[Arm],
+    indices: std::ops::Range<u64>,
+    dir: &Path,
+) -> Option<Vec<(String, World, declutter::schedule::Schedule)>> {
+    let robots = shared_robots()?;
+    std::fs::create_dir_all(dir).expect("scratch dir");
+    let mut out = Vec::new();
+    for &arm in arms {
+        let probe = probe(arm, &robots, dir).expect("the arm builds on the table");
+        for family in FAMILIES {
+            for i in indices.clone() {
+                let p = problem(arm, &probe, &robots, dir, family, i).expect("a goal is drawn");
+                let (w, _) = load(&p.path);
+                if let Ok(planned) = declutter::driver::plan_verified(&w, &|_| {}) {
+                    if planned.schedule.status == Status::Solved {
+                        out.push((format!("{arm:?} {family} {i}"), w, planned.schedule));
+                    }
+                }
             }
         }
     }
-    assert!(cases >= 10 && instants > 1000 && findings > 0, "{cases} cases, {instants} instants, {findings} findings");
+    Some(out)
 }
 
 /// Every arm's home is clear on the bare table (a blocked home would make every one of

@@ -39,7 +39,7 @@ pub use grasps::{
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
-pub use proximity::{aabb_gap, shape_distance, turned_boxes_gap, RobotAt};
+pub use proximity::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, RobotAt};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 pub use urdf::DEFAULT_VELOCITY;

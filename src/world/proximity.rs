@@ -85,6 +85,17 @@ pub fn shape_distance(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) ->
     query::distance(p1, s1, p2, s2).ok().map(|d| d.distance)
 }
 
+/// Whether [`shape_distance`] measures the pair in closed form (balls against balls and
+/// boxes), not by GJK.
+pub fn in_closed_form(s1: &dyn Shape, s2: &dyn Shape) -> bool {
+    match (s1.as_ball(), s2.as_ball()) {
+        (Some(_), Some(_)) => true,
+        (Some(_), None) => s2.as_cuboid().is_some(),
+        (None, Some(_)) => s1.as_cuboid().is_some(),
+        (None, None) => false,
+    }
+}
+
 /// The distance from a ball (centre, radius) to a box (pose, half extents), 0 when they
 /// touch: the centre's distance to the box, in the box's frame, less the radius.
 #[inline]
@@ -293,6 +304,14 @@ mod tests {
             apart > 1000 && 10 * turned_near >= 7 * apart && 10 * world_near <= 6 * apart,
             "{apart} apart: {turned_near} turned, {world_near} world boxes within a fifth"
         );
+    }
+
+    #[test]
+    fn closed_forms_are_balls_against_balls_and_boxes() {
+        let (ball, bx) = (parry3d_f64::shape::Ball::new(0.1), Cuboid::new(Vector::splat(0.1)));
+        let cylinder = parry3d_f64::shape::Cylinder::new(0.1, 0.1);
+        assert!(in_closed_form(&ball, &ball) && in_closed_form(&ball, &bx) && in_closed_form(&bx, &ball));
+        assert!(!in_closed_form(&ball, &cylinder) && !in_closed_form(&bx, &bx) && !in_closed_form(&cylinder, &ball));
     }
 
     #[test]

@@ -126,9 +126,8 @@ impl Obb {
     /// the distance between anything inside them (negative when no face separates them).
     #[inline]
     pub fn gap(&self, p1: &PPose, other: &Obb, p2: &PPose) -> f64 {
-        use parry3d_f64::query::sat::cuboid_cuboid_find_local_separating_normal_oneway as face_sep;
         let pos12 = (*p1 * self.centre).inv_mul(&(*p2 * other.centre));
-        face_sep(&self.cuboid, &other.cuboid, &pos12).0.max(face_sep(&other.cuboid, &self.cuboid, &pos12.inverse()).0)
+        boxes_face_gap(self.cuboid.half_extents, other.cuboid.half_extents, &pos12)
     }
 }
 

@@ -15,11 +15,18 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
 use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
 use crate::resolve::ObjectId;
-use crate::world::{aabb_gap, shape_distance, turned_boxes_gap, ObjectSet, StaticOwner};
+use crate::world::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, ObjectSet, StaticOwner};
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
 /// are in place. The pairs (and their order) are the same while this is.
 type PairSet = (Vec<(Option<(ObjectId, usize)>, Option<ObjectId>)>, usize);
+
+/// Shapes of one robot body, measured and queued together (see `Memory::units`).
+struct Unit {
+    body: usize,
+    /// Indices among the robot's posed shapes.
+    shapes: Vec<usize>,
+}
 
 /// One side of a pair: shapes of one robot body (robot, unit: see `Memory::units`) or a
 /// carried part (robot, index), or a static shape.
@@ -77,12 +84,11 @@ pub(super) struct Memory {
     odometer: Vec<f64>,
     /// Per pair this instant: a lower bound on its free time.
     bound: Vec<f64>,
-    /// Per robot: its posed shapes in units, each a body and its shapes' indices among the
-    /// robot's posed shapes. A body of balls only (a spherized link) is one unit: its
-    /// pairs are measured together, ball by ball, and queued once, not once per ball
-    /// (measuring a ball is cheaper than queueing it). Any other shape is a unit of its
-    /// own: measuring it is dear, and its own bound spares it more often.
-    units: Vec<Vec<(usize, Vec<usize>)>>,
+    /// Per robot: its posed shapes in units. A body of balls only (a spherized link) is
+    /// one unit: its pairs are measured together, ball by ball, and queued once, not once
+    /// per ball (measuring a ball is cheaper than queueing it). Any other shape is a unit
+    /// of its own: measuring it is dear, and its own bound spares it more often.
+    units: Vec<Vec<Unit>>,
     /// Per movers: their pairs' *expiries* (slack plus odometer at the measure: the
     /// odometer reading at which the bound reaches 0), least first. An entry is current
     /// while its stamp is its pair's; a measure stamps the pair anew and queues it again.
@@ -92,9 +98,9 @@ pub(super) struct Memory {
     taken: Vec<(usize, Entry)>,
     /// The pairs changed since the last instant: the next one measures them all.
     fresh: bool,
-    /// Take every pair's bound at every instant, not only the queues' fronts, and every
-    /// shape on its own, not a body of balls as one unit: what the queues and the units
-    /// are tested against.
+    /// Take every pair's bound at every instant, not only the queues' fronts; every shape
+    /// on its own, not a body of balls as one unit; and GJK without the turned boxes'
+    /// gap first: what those shortcuts are tested against.
     pub every_pair: bool,
     /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
     /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
@@ -250,11 +256,11 @@ impl Cell<'_> {
     fn parts<'s>(
         &'s self,
         s: &'s Scratch,
-        units: &'s [Vec<(usize, Vec<usize>)>],
+        units: &'s [Vec<Unit>],
         t: Thing,
     ) -> impl Iterator<Item = Side<'s>> + Clone + 's {
         let (r, many): (usize, &[usize]) = match t {
-            Thing::Unit(r, u) => (r, &units[r][u].1),
+            Thing::Unit(r, u) => (r, &units[r][u].shapes),
             _ => (0, &[]),
         };
         let one = match t {
@@ -266,7 +272,7 @@ impl Cell<'_> {
     }
 
     /// The box around one side of a pair.
-    fn aabb(&self, s: &Scratch, units: &[Vec<(usize, Vec<usize>)>], t: Thing) -> Aabb {
+    fn aabb(&self, s: &Scratch, units: &[Vec<Unit>], t: Thing) -> Aabb {
         let mut parts = self.parts(s, units, t);
         let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
         parts.fold(first, |b, p| b.merged(p.aabb))
@@ -316,9 +322,9 @@ impl Cell<'_> {
                     slack = slack.min(gap - must);
                     continue;
                 }
-                // Balls are measured in closed form; GJK is dear enough to try the turned
-                // boxes' gap first.
-                if x.shape.as_ball().is_none() && y.shape.as_ball().is_none() {
+                // GJK is dear enough to try the turned boxes' gap first (not in the mode
+                // the shortcuts are tested against).
+                if !memory.every_pair && !in_closed_form(x.shape, y.shape) {
                     let turned = turned_boxes_gap(x.pose, x.shape, y.pose, y.shape).max(gap);
                     if (turned - must) / speed >= *free {
                         slack = slack.min(turned - must);
@@ -440,18 +446,21 @@ impl Cell<'_> {
             .iter()
             .zip(&self.robots)
             .map(|(posed, g)| {
-                let balls = |b: usize| {
-                    whole_bodies && posed.iter().filter(|ps| ps.body == b).all(|ps| ps.shape.0.as_ball().is_some())
-                };
-                let mut units: Vec<(usize, Vec<usize>)> = Vec::new();
-                for b in (0..g.bodies.len()).filter(|&b| balls(b)) {
-                    let of: Vec<usize> = (0..posed.len()).filter(|&i| posed[i].body == b).collect();
-                    if !of.is_empty() {
-                        units.push((b, of));
+                let mut balls = vec![whole_bodies; g.bodies.len()];
+                for ps in posed.iter().filter(|ps| ps.shape.0.as_ball().is_none()) {
+                    balls[ps.body] = false;
+                }
+                let mut units: Vec<Unit> = Vec::new();
+                let mut unit_of: Vec<Option<usize>> = vec![None; g.bodies.len()];
+                for (i, ps) in posed.iter().enumerate() {
+                    match unit_of[ps.body] {
+                        Some(u) if balls[ps.body] => units[u].shapes.push(i),
+                        _ => {
+                            unit_of[ps.body] = Some(units.len());
+                            units.push(Unit { body: ps.body, shapes: vec![i] });
+                        }
                     }
                 }
-                units.extend((0..posed.len()).filter(|&i| !balls(posed[i].body)).map(|i| (posed[i].body, vec![i])));
-                units.sort_by_key(|(_, of)| of[0]);
                 units
             })
             .collect();
@@ -467,7 +476,7 @@ impl Cell<'_> {
             let g = &self.robots[ri];
             let held = &s.held[ri];
             // Each unit, with its body.
-            let bodies = |ri: usize| units[ri].iter().enumerate().map(|(u, (b, _))| (u, *b));
+            let bodies = |ri: usize| units[ri].iter().enumerate().map(|(u, unit)| (u, unit.body));
             let checked = |owner: StaticOwner, carried: bool| match owner {
                 StaticOwner::Fixed(_) => true,
                 StaticOwner::Object(o) => {

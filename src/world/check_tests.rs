@@ -1,0 +1,90 @@
+//! Tests of `check.rs`: the moving hulls' boxes, and deep overlaps proved without EPA.
+
+use parry3d_f64::math::{Rotation, Vector as PVec};
+use parry3d_f64::shape::SharedShape;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+
+#[test]
+fn a_moving_hulls_box_holds_its_exact_box_in_any_pose() {
+    // A lopsided hull off its own origin (as mesh links are): the turned local box
+    // must contain every vertex's world box, or the broad phase would drop a contact.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let pts: Vec<PVec> = (0..60)
+        .map(|_| PVec::new(0.3 + 0.2 * rng.random::<f64>(), -0.1 + 0.05 * rng.random::<f64>(), rng.random::<f64>()))
+        .collect();
+    let hull = SharedShape::convex_hull(&pts).expect("a hull of random points");
+    let p = Placed::new(hull, PPose::IDENTITY);
+    let mut looser = 0.0f64;
+    for _ in 0..1000 {
+        let axis = PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        let rot = Rotation::from_scaled_axis(axis * 6.0);
+        let pose = PPose::from_parts(PVec::new(rng.random(), rng.random(), rng.random()), rot);
+        let (fast, exact) = (moving_aabb(&p, &pose), p.shape.compute_aabb(&pose));
+        assert!(fast.contains(&exact), "{fast:?} does not hold {exact:?}");
+        looser = looser.max((fast.volume() / exact.volume()).ln());
+    }
+    // Not vacuous: the two differ (a box around everything would also pass the above).
+    assert!(looser > 0.01 && looser < 3.0, "log volume ratio {looser}");
+}
+
+/// The contact definition itself: intersecting, and EPA's depth over the tolerance.
+fn by_depth(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
+    query::intersection_test(p1, s1, p2, s2).expect("convex").intersecting
+        && query::contact(p1, s1, p2, s2, 0.0).expect("convex").is_some_and(|c| c.dist < -CONTACT_TOLERANCE)
+}
+
+#[test]
+fn a_hull_pressed_into_a_box_face_by_hand() {
+    // A 10 cm cube as a hull, pushed `d` into the top face of a 40 cm box: depth `d`.
+    let corners: Vec<PVec> =
+        (0..8).map(|k| PVec::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64) * 0.1).collect();
+    let hull = SharedShape::convex_hull(&corners).expect("a cube");
+    let table = Cuboid::new(PVec::splat(0.2));
+    let at = |d: f64| PPose::from_translation(PVec::new(-0.05, -0.05, 0.2 - d));
+    for (d, deep, hit) in [(0.003, true, true), (0.0015, false, true), (0.0005, false, false)] {
+        assert_eq!(surely_deeper(&at(d), &*hull.0, &PPose::IDENTITY, &table), deep, "{d}");
+        assert_eq!(surely_deeper(&PPose::IDENTITY, &table, &at(d), &*hull.0), deep, "{d}, the box first");
+        assert_eq!(collide(&at(d), &*hull.0, &PPose::IDENTITY, &table), hit, "{d}");
+    }
+}
+
+#[test]
+fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as_depth_does() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut proved, mut measured) = (0, 0);
+    for _ in 0..20_000 {
+        let pts: Vec<PVec> = (0..12).map(|_| PVec::new(rng.random(), rng.random(), rng.random()) * 0.1).collect();
+        let hull = SharedShape::convex_hull(&pts).expect("a hull of random points");
+        let half = PVec::new(rng.random(), rng.random(), rng.random()) * 0.1 + PVec::splat(0.001);
+        let block = Cuboid::new(half);
+        let axis = PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        let turn = Rotation::from_scaled_axis(axis * 6.0);
+        // Half anywhere near the box; half pressed into one of its faces (normal `u`)
+        // by 0 to 5 mm (the hull's farthest point against `u` that far inside the
+        // face's plane, somewhere over the face), where shallow overlaps are.
+        let axis = rng.random_range(0..3);
+        let mut u = PVec::ZERO;
+        u[axis] = if rng.random::<bool>() { 1.0 } else { -1.0 };
+        let across = (PVec::new(rng.random(), rng.random(), rng.random()) * 2.0 - PVec::ONE) * half;
+        let lowest = pts.iter().map(|p| turn * *p).min_by(|a, b| a.dot(u).total_cmp(&b.dot(u))).expect("points");
+        let mut sideways = across - lowest;
+        sideways[axis] = 0.0;
+        let pressed = (half[axis] - 0.005 * rng.random::<f64>() - lowest.dot(u)) * u + sideways;
+        let anywhere = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.3;
+        let pose = PPose::from_parts(if rng.random::<bool>() { pressed } else { anywhere }, turn);
+        let (h, id) = (&*hull.0, PPose::IDENTITY);
+        assert_eq!(collide(&pose, h, &id, &block), by_depth(&pose, h, &id, &block), "{pose:?} {half:?}");
+        if surely_deeper(&pose, h, &id, &block) {
+            proved += 1;
+            let depth = -query::contact(&pose, h, &id, &block, 0.0).expect("convex").expect("touching").dist;
+            assert!(depth > DEEP - 1e-9, "EPA {depth} under {DEEP}: {pose:?} {half:?}");
+        } else if query::intersection_test(&pose, h, &id, &block).expect("convex").intersecting {
+            measured += 1;
+        }
+    }
+    // Both ways are taken: proved deep, and left to EPA.
+    assert!(proved > 1000 && measured > 1000, "{proved} proved, {measured} measured");
+}
