@@ -301,8 +301,9 @@ impl Cell<'_> {
 
     /// Measures pair `k` (unless its boxes' gap now proves it cannot lower `free`) and
     /// lowers `free` to its free time. A side of many shapes is measured shape by shape,
-    /// each shape pair skipped the same way when its own boxes' gap proves it cannot lower
-    /// `free`; the pair keeps the least slack (or gap) of its shape pairs.
+    /// each shape pair skipped the same way when its own boxes' gap (or, before GJK, its
+    /// turned boxes' gap) proves it cannot lower `free`; the pair keeps the least slack
+    /// (or gap) of its shape pairs.
     fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
         let p = &memory.pairs[k];
         let (a, b) = (self.parts(s, &memory.units, p.a), self.parts(s, &memory.units, p.b));
