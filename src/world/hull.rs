@@ -250,8 +250,9 @@ fn outgoing(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<(u32, u32)>) {
 /// checked, `closed` being the triangles' edges, see [`closed_edges`]) and the edges the
 /// support queries climb.
 fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: &ClosedEdges) -> Option<SharedShape> {
+    // The indices are in range: `closed_edges` checked them.
     let n = vertices.len();
-    if n < 4 || triangles.len() < 4 || triangles.iter().flatten().any(|&i| i as usize >= n) {
+    if n < 4 || triangles.len() < 4 {
         return None;
     }
     // A vertex's neighbours: the ends of its directed edges (every edge's reverse is

@@ -11,6 +11,7 @@ use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape;
 
+use super::shapes::Obb;
 use super::{Held, HeldPart, PosedShape, World};
 use crate::resolve::RobotId;
 
@@ -51,10 +52,8 @@ pub fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
 /// least 0. Tighter than [`aabb_gap`] for turned shapes (a forearm at 45° fills a world
 /// box twice its size), at the cost of a few dozen products.
 pub fn turned_boxes_gap(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> f64 {
-    let (b1, b2) = (s1.compute_local_aabb(), s2.compute_local_aabb());
-    let c1 = *p1 * PPose::from_translation(b1.center());
-    let c2 = *p2 * PPose::from_translation(b2.center());
-    super::shapes::boxes_face_gap(b1.half_extents(), b2.half_extents(), &c1.inv_mul(&c2)).max(0.0)
+    let own = |s: &dyn Shape| Obb::of_aabb(&s.compute_local_aabb());
+    own(s1).gap(p1, &own(s2), p2).max(0.0)
 }
 
 /// The distance between two placed shapes (0 when they touch), `None` when parry3d

@@ -163,13 +163,7 @@ pub(crate) fn boxes_intersect(a: PVec, b: PVec, pos12: &PPose) -> bool {
 /// them.
 #[inline]
 pub(crate) fn boxes_face_gap(a: PVec, b: PVec, pos12: &PPose) -> f64 {
-    let TwoBoxes { a, b, t, r, abs } = TwoBoxes::new(a, b, pos12, 0.0);
-    let along_a = (0..3).map(|i| t[i].abs() - (a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2]));
-    let along_b = (0..3).map(|j| {
-        let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-        along.abs() - (b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j])
-    });
-    along_a.chain(along_b).fold(f64::NEG_INFINITY, f64::max)
+    TwoBoxes::new(a, b, pos12, 0.0).face_gaps().fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Two boxes in the first one's frame, as the separating-axis tests read them.
@@ -198,17 +192,25 @@ impl TwoBoxes {
         TwoBoxes { a: a.to_array(), b: b.to_array(), t: pos12.translation.to_array(), r, abs }
     }
 
+    /// The gaps between the boxes along the six face normals, a's then b's (positive
+    /// where that normal separates them), one at a time as asked.
+    #[inline]
+    fn face_gaps(&self) -> impl Iterator<Item = f64> + '_ {
+        let TwoBoxes { a, b, t, r, abs } = self;
+        // Along a's axis i, b reaches sum_j b_j |r_ij| from its centre.
+        let along_a = (0..3).map(move |i| t[i].abs() - (a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2]));
+        // Along b's axis j, a reaches sum_i a_i |r_ij|.
+        let along_b = (0..3).map(move |j| {
+            let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+            along.abs() - (b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j])
+        });
+        along_a.chain(along_b)
+    }
+
     /// A face normal of either box separates them.
     #[inline]
     fn faces_apart(&self) -> bool {
-        let TwoBoxes { a, b, t, r, abs } = self;
-        // Along a's axis i, b reaches sum_j b_j |r_ij| from its centre.
-        (0..3).any(|i| t[i].abs() > a[i] + b[0] * abs[i][0] + b[1] * abs[i][1] + b[2] * abs[i][2])
-            // Along b's axis j, a reaches sum_i a_i |r_ij|.
-            || (0..3).any(|j| {
-                let along = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-                along.abs() > b[j] + a[0] * abs[0][j] + a[1] * abs[1][j] + a[2] * abs[2][j]
-            })
+        self.face_gaps().any(|gap| gap > 0.0)
     }
 
     /// A cross of an edge of each separates them.
