@@ -263,3 +263,66 @@ fn a_thin_post_between_planner_steps_is_caught_by_the_certifying_check() {
     // Blocked at 5°, the third sample of 0°, 2.5°, 5°, … (it stops at the first block).
     assert_eq!(ctx.checks.get(), 3);
 }
+
+#[test]
+fn the_rest_of_a_certifying_check_skips_the_coarse_samples_and_finds_the_post() {
+    // As above: the coarse check takes 0°, 10° and 20°; the rest takes the six quarter
+    // steps between them, the midpoints (5°, 15°) first, and stops at the post at 5°.
+    let a = 5f64.to_radians();
+    let post =
+        body("post", declutter::resolve::Shape::Sphere { radius: 0.004 }, at(0.85 * a.cos(), 0.85 * a.sin(), 0.0));
+    let scn = scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], vec![post], vec![]);
+    let w = make(&scn, 0);
+    let (from, to, step) = ([0.0, 0.0, 0.0], [d(20.0), 0.0, 0.0], d(10.0));
+    let ctx = CheckCtx::new();
+    let c = w.check_motion_rest(R0, &from, &to, step, &ctx);
+    assert!(matches!(&c, Check::Blocked(Blocker::Fixed { body: FixedId(0), .. })), "{c:?}");
+    assert_eq!(ctx.checks.get(), 1, "5° first");
+    // Without the post: every one of the six, none of the coarse three.
+    let w = make(&scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], vec![], vec![]), 0);
+    let ctx = CheckCtx::new();
+    assert_eq!(w.check_motion_rest(R0, &from, &to, step, &ctx), Check::free());
+    assert_eq!(ctx.checks.get(), 6);
+}
+
+mod rest_of_certifying_check {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn world() -> &'static World {
+        static W: std::sync::OnceLock<World> = std::sync::OnceLock::new();
+        W.get_or_init(|| make(&planar_scene(vec![d(90.0), 0.0, 0.0]), 0))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// Coarse check and rest together answer as the certifying check: the same labels,
+        /// blocked alike, and the two take the certifying check's samples between them
+        /// exactly once each (when nothing blocks).
+        #[test]
+        fn coarse_and_rest_are_the_certifying_check(
+            a in proptest::array::uniform3(-3.0f64..3.0),
+            b in proptest::array::uniform3(-3.0f64..3.0),
+            step in 0.02f64..0.6,
+            absent in 0u32..8,
+        ) {
+            let w = world();
+            let ctx = || CheckCtx::with_absent((0..5).filter(|o| absent & (1 << o) != 0).map(ObjectId).collect());
+            let (c1, c2, c3) = (ctx(), ctx(), ctx());
+            let whole = w.check_motion(R0, &a, &b, step, &c1);
+            let coarse = w.check_segment(R0, &a, &b, step, &c2);
+            let joined = match coarse {
+                Check::Touches(l) => match w.check_motion_rest(R0, &a, &b, step, &c3) {
+                    Check::Touches(r) => Check::Touches(l.union(&r)),
+                    blocked => blocked,
+                },
+                blocked => blocked,
+            };
+            prop_assert_eq!(whole.is_blocked(), joined.is_blocked());
+            if let (Check::Touches(x), Check::Touches(y)) = (&whole, &joined) {
+                prop_assert_eq!(x, y);
+                prop_assert_eq!(c1.checks.get(), c2.checks.get() + c3.checks.get());
+            }
+        }
+    }
+}

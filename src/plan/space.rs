@@ -33,6 +33,13 @@ pub trait Space: Sync {
     fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
         self.check_segment(a, b, resolution / 4.0, mode, checks)
     }
+    /// What `check_motion` adds to a clear `check_segment` at `resolution` of the same
+    /// segment and mode: the certifying samples the coarse check did not take (all of
+    /// them where a space cannot tell which those are). The certifying label is the
+    /// coarse label joined with this one.
+    fn check_motion_rest(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
+        self.check_motion(a, b, resolution, mode, checks)
+    }
     fn home(&self) -> &[f64];
     /// Where a carried object is released (often `home`).
     fn drop_config(&self) -> &[f64];

@@ -384,28 +384,46 @@ pub(super) fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) ->
 /// common case for long roadmap edges, is found after a few samples. The labels are
 /// the same in any order; only which blocker is reported may differ.
 pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, step, ctx, true)
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, true)
 }
 
 /// The samples of [`check_segment`], checking only the carried object (see
 /// [`check_posed`]).
 pub(crate) fn check_segment_held(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, step, ctx, false)
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, false)
 }
 
+/// The samples of `check_motion(.., step, parts, ..)` that [`check_segment`] at `step`
+/// does not take (every `parts`-th is one of its: the same fractions of the segment,
+/// hence the same configurations), coarse to fine. After a coarse check of the same
+/// segment and context found labels `l` and no block, `l` joined with this one's labels
+/// is `check_motion`'s answer, without checking the coarse samples twice.
+pub(crate) fn check_motion_rest(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    (step, parts): (f64, usize),
+    ctx: &CheckCtx,
+) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, true)
+}
+
+/// Sample `i` of `steps(a, b, step, parts) + 1` is skipped when `parts > 1` and `i` is a
+/// multiple of `parts` (see [`check_motion_rest`]).
 fn segment_coarse_to_fine(
     w: &World,
     r: RobotId,
     a: &[f64],
     b: &[f64],
-    step: f64,
+    (step, parts): (f64, usize),
     ctx: &CheckCtx,
     robot_part: bool,
 ) -> Check {
     let m = &w.robots[r.index()];
     assert_dof(m, a);
     assert_dof(m, b);
-    let n = steps(a, b, step, 1);
+    let n = steps(a, b, step, parts);
     let mut q = a.to_vec();
     let mut out = ObjectSet::new();
     // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
@@ -416,6 +434,9 @@ fn segment_coarse_to_fine(
         let first = if stride == top { 0 } else { stride };
         let by = if stride == top { stride } else { 2 * stride };
         for i in (first..=n).step_by(by) {
+            if parts > 1 && i % parts == 0 {
+                continue;
+            }
             sample(a, b, i, n, &mut q);
             match check_parts(w, r, &q, ctx, robot_part) {
                 Check::Blocked(bl) => return Check::Blocked(bl),

@@ -237,6 +237,13 @@ impl World {
     pub fn check_motion(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
         check::check_motion(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
     }
+    /// The samples of [`World::check_motion`] that [`World::check_segment`] at the same
+    /// `resolution` does not take, coarse to fine: once that coarse check of the segment
+    /// (same context) found labels `l` and no block, `l` joined with these labels is
+    /// `check_motion`'s answer (a block may be found at another sample than its first).
+    pub fn check_motion_rest(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
+        check::check_motion_rest(self, r, a, b, (resolution, CERTIFY_PARTS), ctx)
+    }
 }
 
 /// The fingers' posture with the hand empty: open.

@@ -216,12 +216,12 @@ impl<S: Space> RobotPlanner<S> {
         matches!(self.space.check(q, mode, checks), Check::Touches(l) if l.is_empty())
     }
 
-    /// The coarse check first (it finds most blocks in a few samples), then the
-    /// certifying one.
+    /// The coarse check first (it finds most blocks in a few samples), then the rest of
+    /// the certifying one's samples.
     fn motion_free(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
         let res = self.settings.resolution;
         let clear = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
         clear(self.space.check_segment(a, b, res, mode, checks))
-            && clear(self.space.check_motion(a, b, res, mode, checks))
+            && clear(self.space.check_motion_rest(a, b, res, mode, checks))
     }
 }

@@ -47,10 +47,13 @@ impl<S: Space> RobotPlanner<S> {
         out
     }
 
+    /// Whether the certifying check of a -> b touches only `allowed`: its coarse samples
+    /// first (most shortcuts that fail are blocked, and a few samples spread along the
+    /// segment find it), then the rest.
     fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
-        match self.space.check_motion(a, b, self.settings.resolution, mode, checks) {
-            Check::Touches(l) => l.is_subset(allowed),
-            Check::Blocked(_) => false,
-        }
+        let res = self.settings.resolution;
+        let within = |c: Check| matches!(c, Check::Touches(l) if l.is_subset(allowed));
+        within(self.space.check_segment(a, b, res, mode, checks))
+            && within(self.space.check_motion_rest(a, b, res, mode, checks))
     }
 }
