@@ -455,13 +455,24 @@ pub(crate) fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
     (if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 }).saturating_mul(parts.max(1))
 }
 
-/// Sample `i` of `n` on a -> b; the last is `b` exactly.
+/// Sample `i` of `n` on a -> b; the last is `b` exactly. Interpolated from whichever end
+/// comes first in a fixed order (see [`from_a`]), so that sample `i` of a -> b and sample
+/// `n - i` of b -> a are the same configuration to the bit: a segment's labels do not
+/// depend on the way it was walked, and a check of one way can complete a check of the other.
 #[inline]
 pub(crate) fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
-    let t = i as f64 / n as f64;
-    for (k, v) in q.iter_mut().enumerate() {
-        *v = if i == n { b[k] } else { a[k] + (b[k] - a[k]) * t };
+    let (from, to, k) = if from_a(a, b) { (a, b, i) } else { (b, a, n - i) };
+    let t = k as f64 / n as f64;
+    for (j, v) in q.iter_mut().enumerate() {
+        *v = if k == n { to[j] } else { from[j] + (to[j] - from[j]) * t };
     }
+}
+
+/// Whether `a` is first of the two (by the first joint where they differ, in
+/// `f64::total_cmp`'s order; `a` when they are equal).
+#[inline]
+fn from_a(a: &[f64], b: &[f64]) -> bool {
+    a.iter().zip(b).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()) != Some(std::cmp::Ordering::Greater)
 }
 
 /// Steps of at most `step`, each cut into `parts`: the samples include those of

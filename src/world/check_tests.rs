@@ -1,4 +1,5 @@
-//! Tests of `check.rs`: the moving hulls' boxes, and deep overlaps proved without EPA.
+//! Tests of `check.rs`: the moving hulls' boxes, deep overlaps proved without EPA, and a
+//! segment's samples the same either way.
 
 use parry3d_f64::math::{Rotation, Vector as PVec};
 use parry3d_f64::shape::SharedShape;
@@ -87,4 +88,31 @@ fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as
     }
     // Both ways are taken: proved deep, and left to EPA.
     assert!(proved > 1000 && measured > 1000, "{proved} proved, {measured} measured");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+    /// Sample `i` of a -> b is sample `n - i` of b -> a, to the bit, ends included (the
+    /// certification of an edge walked one way completes a coarse check walked the other).
+    #[test]
+    fn a_segment_and_its_reverse_take_the_same_samples(
+        a in proptest::collection::vec(-1e3f64..1e3, 1..8),
+        d in proptest::collection::vec(-4.0f64..4.0, 8),
+        tie in 0usize..8,
+        n in 1usize..300,
+    ) {
+        // Ends that agree on their first joints, so the order looks past them.
+        let b: Vec<f64> = a.iter().zip(&d).enumerate().map(|(k, (x, y))| if k < tie { *x } else { x + y }).collect();
+        let (mut p, mut q) = (vec![0.0; a.len()], vec![0.0; a.len()]);
+        for i in 0..=n {
+            sample(&a, &b, i, n, &mut p);
+            sample(&b, &a, n - i, n, &mut q);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            proptest::prop_assert_eq!(bits(&p), bits(&q), "sample {} of {}", i, n);
+        }
+        sample(&a, &b, 0, n, &mut p);
+        proptest::prop_assert_eq!(&p, &a);
+        sample(&a, &b, n, n, &mut p);
+        proptest::prop_assert_eq!(&p, &b);
+    }
 }

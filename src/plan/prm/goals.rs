@@ -272,7 +272,7 @@ impl<S: Space> RobotPlanner<S> {
                         grasp: Some(cfg.q_grasp.to_vec()),
                         empty: None,
                     };
-                    let l = self.eval(&job, false, checks);
+                    let l = self.eval(&job, super::lazy::Pass::Coarse, checks);
                     self.lock(|s| s.labels.insert(item, l.clone()), checks);
                     l
                 }

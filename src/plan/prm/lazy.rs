@@ -12,18 +12,28 @@ use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
 use crate::world::{Check, ObjectSet, OPEN_POSTURE};
 
+/// How [`RobotPlanner::eval`] checks an item's segments.
+#[derive(Clone, Copy)]
+pub(super) enum Pass<'a> {
+    /// Every `resolution`: the search's check.
+    Coarse,
+    /// The certifying check.
+    Fine,
+    /// The certifying check's samples that the coarse check did not take, joined with
+    /// the coarse label given: for an item whose coarse label came from the same
+    /// segments in the same mode (samples do not depend on the way a segment is walked).
+    Rest(&'a ObjectSet),
+}
+
 impl<S: Space> RobotPlanner<S> {
     /// Labels one item. Segments, the straight approach included, are checked every
-    /// `resolution` while searching and with the certifying check (`fine`) once on a
-    /// chosen path.
-    pub(super) fn eval(&self, job: &Job, fine: bool, checks: &mut u64) -> Option<ObjectSet> {
+    /// `resolution` while searching and with the certifying check once on a chosen path.
+    pub(super) fn eval(&self, job: &Job, pass: Pass, checks: &mut u64) -> Option<ObjectSet> {
         let res = self.settings.resolution;
-        let seg = |a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64| {
-            if fine {
-                self.space.check_motion(a, b, res, mode, checks)
-            } else {
-                self.space.check_segment(a, b, res, mode, checks)
-            }
+        let seg = |a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64| match pass {
+            Pass::Coarse => self.space.check_segment(a, b, res, mode, checks),
+            Pass::Fine => self.space.check_motion(a, b, res, mode, checks),
+            Pass::Rest(_) => self.space.check_motion_rest(a, b, res, mode, checks),
         };
         let c = match (&job.b, &job.grasp) {
             // The approach in (object absent, hand empty) and the retreat carrying the
@@ -50,7 +60,7 @@ impl<S: Space> RobotPlanner<S> {
             // Carrying, with the empty hand's label of this edge known: the robot's own
             // bodies meet the same things (less the object, now in the hand), so only the
             // object needs checking; an edge blocked for the empty hand stays blocked.
-            (Some(b), None) if !fine && job.empty.is_some() => match &job.empty {
+            (Some(b), None) if matches!(pass, Pass::Coarse) && job.empty.is_some() => match &job.empty {
                 Some(Some(empty)) => match self.space.check_segment_held(&job.a, b, res, &job.mode, checks) {
                     Check::Touches(mut l) => {
                         let mut robot = empty.clone();
@@ -67,9 +77,10 @@ impl<S: Space> RobotPlanner<S> {
             (Some(b), None) => seg(&job.a, b, &job.mode, checks),
             (None, None) => self.space.check(&job.a, &job.mode, checks),
         };
-        match c {
-            Check::Touches(l) => Some(l),
-            Check::Blocked(_) => None,
+        match (c, pass) {
+            (Check::Touches(l), Pass::Rest(coarse)) => Some(l.union(coarse)),
+            (Check::Touches(l), _) => Some(l),
+            (Check::Blocked(_), _) => None,
         }
     }
 
@@ -211,7 +222,7 @@ impl<S: Space> RobotPlanner<S> {
                 .par_iter()
                 .map(|j| {
                     let mut c = 0;
-                    let l = self.eval(j, false, &mut c);
+                    let l = self.eval(j, Pass::Coarse, &mut c);
                     (l, c)
                 })
                 .collect();
@@ -252,9 +263,12 @@ impl<S: Space> RobotPlanner<S> {
     }
 
     /// Re-checks the segments of a path that only have a coarse label with the fine
-    /// check; returns the items whose label changed (now stored).
+    /// check; returns the items whose label changed (now stored). Where the coarse label
+    /// came from the same segments in the same mode (every coarse label but a carrying
+    /// edge's taken from its empty-hand label, see `eval`), only the samples it did not
+    /// take are checked.
     pub(super) fn certify(&self, b: &Built, f: &Found, checks: &mut u64) -> HashMap<LabelKey, Option<ObjectSet>> {
-        let jobs: Vec<Job> = self.lock(
+        let jobs: Vec<(Job, Option<ObjectSet>)> = self.lock(
             |s| {
                 let mut seen = HashSet::new();
                 b.edge_keys(f)
@@ -263,23 +277,30 @@ impl<S: Space> RobotPlanner<S> {
                             && !s.certified.contains(k)
                             && seen.insert(*k)
                     })
-                    .map(|k| job(s, k))
+                    .map(|k| {
+                        let j = job(s, k);
+                        // A carrying edge whose empty-hand label is known now may have
+                        // had its coarse label from it (labels are only ever added).
+                        let coarse = lookup(s, k).flatten().filter(|_| j.empty.is_none());
+                        (j, coarse)
+                    })
                     .collect()
             },
             checks,
         );
         let results: Vec<(Option<ObjectSet>, u64)> = jobs
             .par_iter()
-            .map(|j| {
+            .map(|(j, coarse)| {
                 let mut c = 0;
-                (self.eval(j, true, &mut c), c)
+                let pass = coarse.as_ref().map_or(Pass::Fine, Pass::Rest);
+                (self.eval(j, pass, &mut c), c)
             })
             .collect();
         *checks += results.iter().map(|r| r.1).sum::<u64>();
         self.lock(
             |s| {
                 let mut changed = HashMap::new();
-                for (j, (l, _)) in jobs.iter().zip(results) {
+                for ((j, _), (l, _)) in jobs.iter().zip(results) {
                     s.certified.insert(j.item);
                     if lookup(s, j.item).as_ref() != Some(&l) {
                         store(s, j.item, l.clone());

@@ -318,3 +318,34 @@ fn grasp_queries_go_through_the_hole_there_and_back() {
     }
     assert_eq!(free, 4);
 }
+
+/// Certifying only the samples a coarse label did not cover stores the label the whole
+/// certifying check gives: every certified item of every query of two examples (the
+/// gripper's carrying edges and closing fingers among them) checked again in full.
+#[test]
+fn certified_labels_are_those_of_the_whole_certifying_check() {
+    use super::super::layers::{job, lookup};
+    use super::lazy::Pass;
+    use crate::diag::{FsLoader, SourceMap};
+    let (mut items, mut rest) = (0, 0);
+    for name in ["box_lid", "gripper"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(format!("{name}.dcl"));
+        let scn = crate::resolve::resolve(&path, &FsLoader, &mut SourceMap::new()).expect("resolves");
+        let w = crate::world::build(&scn, &crate::world::WorldOptions::default(), &FsLoader).expect("builds");
+        let planner = crate::plan::Planner::new(&w, &scn.planner);
+        for r in scn.robot_ids() {
+            for o in 0..scn.objects.len() {
+                planner.robot(r).query(&Goal::Grasp(ObjectId(o as u32)));
+            }
+            let p = planner.robot(r);
+            let certified: Vec<_> =
+                p.lock(|s| s.certified.iter().map(|&k| (job(s, k), lookup(s, k))).collect(), &mut 0);
+            for (j, stored) in certified {
+                items += 1;
+                rest += usize::from(j.empty.is_none());
+                assert_eq!(stored, Some(p.eval(&j, Pass::Fine, &mut 0)), "{name}: {:?}", j.item);
+            }
+        }
+    }
+    assert!(items > 20 && rest > 10, "{items} certified items, {rest} certified by their rest");
+}
