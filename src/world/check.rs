@@ -17,6 +17,7 @@ use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use parry3d_f64::query;
+use parry3d_f64::query::gjk::VoronoiSimplex;
 use parry3d_f64::shape::{Cuboid, Shape};
 
 use super::pair_grid::{body_distance, Measure};
@@ -65,16 +66,73 @@ impl CheckCtx {
 /// True when the shapes overlap deeper than the tolerance.
 #[inline]
 pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
-    match query::intersection_test(p1, s1, p2, s2) {
-        Ok(i) if !i.intersecting => false,
-        _ if surely_deeper(p1, s1, p2, s2) => true,
-        _ => match query::contact(p1, s1, p2, s2, 0.0) {
+    let meet = match gjk_meet(p1, s1, p2, s2) {
+        Some(m) => m,
+        None => match query::intersection_test(p1, s1, p2, s2) {
+            Ok(i) if !i.intersecting => Meet::Apart,
+            _ => Meet::Overlap,
+        },
+    };
+    match meet {
+        Meet::Apart => false,
+        Meet::Deep => true,
+        Meet::Overlap if surely_deeper(p1, s1, p2, s2) => true,
+        Meet::Overlap => match query::contact(p1, s1, p2, s2, 0.0) {
             Ok(Some(c)) => c.dist < -CONTACT_TOLERANCE,
             Ok(None) => false,
             // No depth query for this pair: trust the intersection test.
             Err(_) => true,
         },
     }
+}
+
+/// What an intersection test found.
+enum Meet {
+    Apart,
+    /// Overlapping by more than the contact tolerance.
+    Deep,
+    /// Overlapping, by how much unknown.
+    Overlap,
+}
+
+/// parry's own intersection test of two convex shapes it tests with GJK (neither a ball,
+/// not two boxes, no triangle: the pairs its dispatcher sends there), keeping GJK's last
+/// simplex: `None` for other pairs. Four points of the shapes' Minkowski difference
+/// enclosing the origin span a tetrahedron inside it; when the origin lies [`DEEP`]
+/// inside each of its faces, no move shorter than that separates the shapes, and the
+/// overlap is deeper than the tolerance without EPA (most overlaps of a mesh arm's
+/// self-collision samples are centimetres deep).
+fn gjk_meet(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> Option<Meet> {
+    let other = |s: &dyn Shape| s.as_ball().is_some() || s.as_triangle().is_some();
+    if other(s1) || other(s2) || (s1.as_cuboid().is_some() && s2.as_cuboid().is_some()) {
+        return None;
+    }
+    let (g1, g2) = (s1.as_support_map()?, s2.as_support_map()?);
+    let mut simplex = VoronoiSimplex::new();
+    let pos12 = p1.inv_mul(p2);
+    let (hit, _) =
+        query::details::intersection_test_support_map_support_map_with_params(&pos12, g1, g2, &mut simplex, None);
+    Some(match hit {
+        false => Meet::Apart,
+        true if origin_deep_in(&simplex, DEEP) => Meet::Deep,
+        true => Meet::Overlap,
+    })
+}
+
+/// Whether `simplex` is a tetrahedron with the origin at least `depth` inside each face.
+fn origin_deep_in(simplex: &VoronoiSimplex, depth: f64) -> bool {
+    if simplex.dimension() != 3 {
+        return false;
+    }
+    let p: [PVec; 4] = std::array::from_fn(|i| simplex.point(i).point);
+    [(0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0)].into_iter().all(|(i, j, k, l)| {
+        let n = (p[j] - p[i]).cross(p[k] - p[i]);
+        let len = n.length();
+        // The face's normal turned away from the fourth point; the origin's depth
+        // behind the face is the plane's offset along it.
+        let side = n.dot(p[l] - p[i]);
+        len > 0.0 && side != 0.0 && -side.signum() * n.dot(p[i]) / len >= depth
+    })
 }
 
 /// Twice [`CONTACT_TOLERANCE`]: how far inside a box [`surely_deeper`] looks.

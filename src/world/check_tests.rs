@@ -2,6 +2,7 @@
 //! segment's samples the same either way.
 
 use parry3d_f64::math::{Rotation, Vector as PVec};
+use parry3d_f64::query::gjk::CsoPoint;
 use parry3d_f64::shape::SharedShape;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -88,6 +89,83 @@ fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as
     }
     // Both ways are taken: proved deep, and left to EPA.
     assert!(proved > 1000 && measured > 1000, "{proved} proved, {measured} measured");
+}
+
+#[test]
+fn overlaps_proved_deep_by_gjks_simplex_are_deep_by_epa_and_collide_answers_as_depth_does() {
+    // Hull against hull and against a cylinder, anywhere near each other or pressed
+    // together 0 to 5 mm along a random direction (where shallow overlaps are).
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let (mut proved, mut measured) = (0, 0);
+    let cloud = |rng: &mut ChaCha8Rng| -> Vec<PVec> {
+        (0..12).map(|_| PVec::new(rng.random(), rng.random(), rng.random()) * 0.1).collect()
+    };
+    for k in 0..20_000 {
+        let a = SharedShape::convex_hull(&cloud(&mut rng)).expect("a hull of random points");
+        let b = match k % 2 {
+            0 => SharedShape::convex_hull(&cloud(&mut rng)).expect("a hull of random points"),
+            _ => SharedShape::cylinder(0.01 + 0.05 * rng.random::<f64>(), 0.01 + 0.05 * rng.random::<f64>()),
+        };
+        let axis = PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        let turn = Rotation::from_scaled_axis(axis * 6.0);
+        let anywhere = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.12;
+        let mut pose = PPose::from_parts(anywhere, turn);
+        if rng.random::<bool>() {
+            // Slide `b` along `u` until it just touches `a`, then press it in by up to 5 mm.
+            let u = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)).normalize();
+            let id = PPose::IDENTITY;
+            let apart = |t: f64| PPose::from_parts(anywhere + u * t, turn);
+            let (mut lo, mut hi) = (-1.0, 1.0);
+            if !query::intersection_test(&id, &*a.0, &apart(lo), &*b.0).expect("convex").intersecting
+                || query::intersection_test(&id, &*a.0, &apart(hi), &*b.0).expect("convex").intersecting
+            {
+                continue;
+            }
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                match query::intersection_test(&id, &*a.0, &apart(mid), &*b.0).expect("convex").intersecting {
+                    true => lo = mid,
+                    false => hi = mid,
+                }
+            }
+            pose = apart(hi - 0.005 * rng.random::<f64>());
+        }
+        let id = PPose::IDENTITY;
+        let (sa, sb) = (&*a.0, &*b.0);
+        assert_eq!(collide(&id, sa, &pose, sb), by_depth(&id, sa, &pose, sb), "{pose:?}");
+        match gjk_meet(&id, sa, &pose, sb).expect("two shapes GJK tests") {
+            Meet::Deep => {
+                proved += 1;
+                let depth = -query::contact(&id, sa, &pose, sb, 0.0).expect("convex").expect("touching").dist;
+                assert!(depth > DEEP - 1e-9, "EPA {depth} under {DEEP}: {pose:?}");
+            }
+            Meet::Overlap => measured += 1,
+            Meet::Apart => assert!(!query::intersection_test(&id, sa, &pose, sb).expect("convex").intersecting),
+        }
+    }
+    // Both ways are taken: proved deep, and left to EPA.
+    assert!(proved > 500 && measured > 500, "{proved} proved, {measured} measured");
+}
+
+#[test]
+fn a_tetrahedron_holds_the_origin_deep_inside_by_hand() {
+    // The corner tetrahedron x, y, z >= -0.01, x + y + z <= 0.03: the origin is 1 cm
+    // from the three axis faces and 0.03 / sqrt 3 = 17.3 mm from the slanted one.
+    let corner = |x: f64, y: f64, z: f64| CsoPoint::single_point(PVec::new(x, y, z));
+    let mut s = VoronoiSimplex::new();
+    s.reset(corner(-0.01, -0.01, -0.01));
+    for p in [corner(0.05, -0.01, -0.01), corner(-0.01, 0.05, -0.01), corner(-0.01, -0.01, 0.05)] {
+        assert!(s.add_point(p));
+    }
+    assert!(origin_deep_in(&s, 0.0099));
+    assert!(!origin_deep_in(&s, 0.0101));
+    // Moved 2 cm along +x, the face x = 0.01 passes the origin: it is outside.
+    let mut t = VoronoiSimplex::new();
+    t.reset(corner(0.01, -0.01, -0.01));
+    for p in [corner(0.07, -0.01, -0.01), corner(0.01, 0.05, -0.01), corner(0.01, -0.01, 0.05)] {
+        assert!(t.add_point(p));
+    }
+    assert!(!origin_deep_in(&t, 0.0));
 }
 
 proptest::proptest! {
