@@ -22,7 +22,7 @@ use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 
 use super::chain::{Chain, Source};
-use super::proximity::shape_distance;
+use super::proximity::shape_distance_below;
 use super::robot::RobotModel;
 use super::shapes::{to_ppose, Boxed, Placed};
 use super::urdf::Motion;
@@ -260,7 +260,8 @@ pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: 
             }
             gap = gap.max(pa.obb.gap(pi, &pb.obb, pj));
             if gap < best.min(enough) {
-                gap = shape_distance(pi, &*pa.shape.0, pj, &*pb.shape.0)?;
+                // Beyond the least so far or `enough`, any value past it will do.
+                gap = shape_distance_below(pi, &*pa.shape.0, pj, &*pb.shape.0, best.min(enough))?;
             }
             best = best.min(gap);
         }
