@@ -242,17 +242,22 @@ fn pairs_always_in_collision_are_found_by_sampling() {
     assert_eq!(w.check(R0, &[1.0, 2.0, -1.0], &CheckCtx::new()), Check::free());
 }
 
+/// The planar arm, and (when `post`) a post of 4 mm radius at 5°, 0.85 m out.
+fn arm_beside_a_post(post: bool) -> World {
+    let a = 5f64.to_radians();
+    let post = post.then(|| {
+        body("post", declutter::resolve::Shape::Sphere { radius: 0.004 }, at(0.85 * a.cos(), 0.85 * a.sin(), 0.0))
+    });
+    make(&scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], post.into_iter().collect(), vec![]), 0)
+}
+
 #[test]
 fn a_thin_post_between_planner_steps_is_caught_by_the_certifying_check() {
     // The straight arm (x from 0 to 0.9) turns 20° about the base in steps of 10°: the
     // planner's check looks at 0°, 10° and 20°. A post of 4 mm radius stands at 5°, 0.85 m
     // out: 0.85·sin 5° = 74 mm from the arm's axis at 0° and at 10°, 50 mm clear of the
     // 20 mm half-width. Only the certifying check, at a quarter step, sees it.
-    let a = 5f64.to_radians();
-    let post =
-        body("post", declutter::resolve::Shape::Sphere { radius: 0.004 }, at(0.85 * a.cos(), 0.85 * a.sin(), 0.0));
-    let scn = scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], vec![post], vec![]);
-    let w = make(&scn, 0);
+    let w = arm_beside_a_post(true);
     let (from, to, step) = ([0.0, 0.0, 0.0], [d(20.0), 0.0, 0.0], d(10.0));
     let ctx = CheckCtx::new();
     assert_eq!(w.check_segment(R0, &from, &to, step, &ctx), Check::Touches(ObjectSet::new()));
@@ -268,18 +273,14 @@ fn a_thin_post_between_planner_steps_is_caught_by_the_certifying_check() {
 fn the_rest_of_a_certifying_check_skips_the_coarse_samples_and_finds_the_post() {
     // As above: the coarse check takes 0°, 10° and 20°; the rest takes the six quarter
     // steps between them, the midpoints (5°, 15°) first, and stops at the post at 5°.
-    let a = 5f64.to_radians();
-    let post =
-        body("post", declutter::resolve::Shape::Sphere { radius: 0.004 }, at(0.85 * a.cos(), 0.85 * a.sin(), 0.0));
-    let scn = scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], vec![post], vec![]);
-    let w = make(&scn, 0);
+    let w = arm_beside_a_post(true);
     let (from, to, step) = ([0.0, 0.0, 0.0], [d(20.0), 0.0, 0.0], d(10.0));
     let ctx = CheckCtx::new();
     let c = w.check_motion_rest(R0, &from, &to, step, &ctx);
     assert!(matches!(&c, Check::Blocked(Blocker::Fixed { body: FixedId(0), .. })), "{c:?}");
     assert_eq!(ctx.checks.get(), 1, "5° first");
     // Without the post: every one of the six, none of the coarse three.
-    let w = make(&scenario(vec![robot("arm", planar3(), vec![0.0; 3], None)], vec![], vec![], vec![]), 0);
+    let w = arm_beside_a_post(false);
     let ctx = CheckCtx::new();
     assert_eq!(w.check_motion_rest(R0, &from, &to, step, &ctx), Check::free());
     assert_eq!(ctx.checks.get(), 6);
