@@ -5,12 +5,20 @@ use std::collections::{HashMap, HashSet};
 
 use rayon::prelude::*;
 
-use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node};
+use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node, State};
 use super::super::search::{fewest_removals, fewest_vertices, Found, Len};
 use super::super::space::{Mode, Space};
 use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
 use crate::world::{Check, ObjectSet, OPEN_POSTURE};
+
+/// The stored coarse label a certification of `j`'s item may build on (see
+/// [`Pass::Rest`]): none for a carrying edge whose empty-hand label is known, which may
+/// have had its coarse label from it (labels are only ever added), with the fingers open
+/// rather than closed on the object.
+pub(super) fn coarse_for_rest(s: &State, j: &Job) -> Option<ObjectSet> {
+    lookup(s, j.item).flatten().filter(|_| j.empty.is_none())
+}
 
 /// How [`RobotPlanner::eval`] checks an item's segments.
 #[derive(Clone, Copy)]
@@ -279,9 +287,7 @@ impl<S: Space> RobotPlanner<S> {
                     })
                     .map(|k| {
                         let j = job(s, k);
-                        // A carrying edge whose empty-hand label is known now may have
-                        // had its coarse label from it (labels are only ever added).
-                        let coarse = lookup(s, k).flatten().filter(|_| j.empty.is_none());
+                        let coarse = coarse_for_rest(s, &j);
                         (j, coarse)
                     })
                     .collect()
