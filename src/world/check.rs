@@ -7,9 +7,9 @@
 //! so a can standing on the table does not touch it. A moving primitive (box,
 //! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
 //! tested with one `intersection_test` (a box against a box by the fifteen-axis
-//! separating test, `boxes_intersect`); a mesh hull is tested with
-//! `intersection_test`, then `contact` measures the depth of pairs that intersect,
-//! unless the hull also meets a box shrunk by twice the tolerance (deep: no measure).
+//! separating test, `boxes_intersect`); a mesh hull is tested with GJK, then
+//! `contact` measures the depth of pairs that intersect, unless GJK's last simplex or a
+//! box shrunk by twice the tolerance already proves them that deep (no measure).
 
 use std::cell::{Cell, RefCell};
 
