@@ -24,7 +24,7 @@ use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
-use crate::world::Check;
+use crate::world::{Check, ObjectSet};
 
 /// Extension attempts (each followed by a connect) per roadmap sample while the query
 /// has no path: without them it gives up.
@@ -201,7 +201,7 @@ impl<S: Space> RobotPlanner<S> {
             true => aim.to_vec(),
             false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * TREE_STEP / d).collect(),
         };
-        if !self.motion_free(&from, &to, mode, checks) {
+        if !self.clear(&from, &to, mode, &ObjectSet::new(), checks) {
             return Grew::Trapped;
         }
         let i = t.add(&to, near);
@@ -214,14 +214,5 @@ impl<S: Space> RobotPlanner<S> {
 
     fn free(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
         matches!(self.space.check(q, mode, checks), Check::Touches(l) if l.is_empty())
-    }
-
-    /// The coarse check first (it finds most blocks in a few samples), then the rest of
-    /// the certifying one's samples.
-    fn motion_free(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        let res = self.settings.resolution;
-        let clear = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
-        clear(self.space.check_segment(a, b, res, mode, checks))
-            && clear(self.space.check_motion_rest(a, b, res, mode, checks))
     }
 }

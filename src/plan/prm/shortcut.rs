@@ -47,10 +47,10 @@ impl<S: Space> RobotPlanner<S> {
         out
     }
 
-    /// Whether the certifying check of a -> b touches only `allowed`: its coarse samples
-    /// first (most shortcuts that fail are blocked, and a few samples spread along the
+    /// Whether the certifying check of a -> b touches only `allowed` (nothing, for the
+    /// free-space trees' steps): its coarse samples first (most moves that fail are blocked, and a few samples spread along the
     /// segment find it), then the rest.
-    fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
+    pub(super) fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
         let res = self.settings.resolution;
         let within = |c: Check| matches!(c, Check::Touches(l) if l.is_subset(allowed));
         within(self.space.check_segment(a, b, res, mode, checks))
