@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use super::chains::{contract, Chain};
-use super::knn::{dist2, KdTree};
+use super::knn::{dist2, GrowingIndex};
 use super::roadmap::Roadmap;
 use super::search::{mask, Found, Lab, LabelGraph, Mask};
 use super::space::Mode;
@@ -47,14 +47,20 @@ pub(super) struct GoalNode {
     pub(super) tree_rounds: usize,
     /// The tree's links to the roadmap: (tree node, roadmap vertex, round found).
     pub(super) links: Vec<(u32, u32, usize)>,
-    /// A nearest-node index of the tree (its root first): a k-d tree over the first
-    /// nodes and how many it holds; later nodes are scanned.
-    pub(super) index: Option<(KdTree, usize)>,
+    /// A nearest-node index of the tree (its root first).
+    pub(super) index: GrowingIndex,
 }
 
 impl GoalNode {
     pub(super) fn new(q: &[f64]) -> GoalNode {
-        GoalNode { q: q.to_vec(), nbrs: Vec::new(), tree: Vec::new(), tree_rounds: 0, links: Vec::new(), index: None }
+        GoalNode {
+            q: q.to_vec(),
+            nbrs: Vec::new(),
+            tree: Vec::new(),
+            tree_rounds: 0,
+            links: Vec::new(),
+            index: GrowingIndex::default(),
+        }
     }
 }
 

@@ -19,7 +19,7 @@ use std::time::Instant;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::super::knn::{dist2, nearest_growing, KdTree};
+use super::super::knn::{dist2, GrowingIndex};
 use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
@@ -31,8 +31,6 @@ use crate::world::{Check, ObjectSet};
 pub(super) const PER_SAMPLE_NONE: u64 = 64;
 /// The same while it has a path with removals: they can only make it remove fewer.
 pub(super) const PER_SAMPLE_FEWER: u64 = 16;
-/// Nodes scanned one by one beyond those the k-d index holds.
-const TAIL: usize = 64;
 /// The seed stream of this search.
 const STREAM: u64 = 0x636f_6e6e;
 
@@ -41,7 +39,7 @@ struct Tree {
     dof: usize,
     qs: Vec<f64>,
     parent: Vec<u32>,
-    index: Option<(KdTree, usize)>,
+    index: GrowingIndex,
 }
 
 impl Tree {
@@ -49,7 +47,7 @@ impl Tree {
     fn new(roots: &[&[f64]]) -> Tree {
         let dof = roots.first().map_or(0, |r| r.len());
         let qs = roots.iter().flat_map(|r| r.iter().copied()).collect();
-        Tree { dof, qs, parent: vec![u32::MAX; roots.len()], index: None }
+        Tree { dof, qs, parent: vec![u32::MAX; roots.len()], index: GrowingIndex::default() }
     }
     fn len(&self) -> usize {
         self.parent.len()
@@ -60,7 +58,7 @@ impl Tree {
     /// The node nearest `q`; ties go to the older node.
     fn nearest(&mut self, q: &[f64]) -> usize {
         let (dim, qs) = (self.dof, &self.qs);
-        nearest_growing(&mut self.index, dim, self.parent.len(), TAIL, |i| &qs[i * dim..(i + 1) * dim], q)
+        self.index.nearest(dim, self.parent.len(), |i| &qs[i * dim..(i + 1) * dim], q)
     }
     fn add(&mut self, q: &[f64], parent: usize) -> usize {
         self.qs.extend_from_slice(q);
@@ -161,12 +159,15 @@ impl FreeConnect {
             } else {
                 lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect()
             };
-            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, &aim, &self.mode, checks) {
+            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, None, &aim, &self.mode, checks) {
                 let target = self.a.q(i).to_vec();
-                // Connect: the other tree steps towards the new node until it reaches it or is stopped.
+                // Connect: the other tree steps towards the new node until it reaches it or
+                // is stopped. Each step's node is nearer the target than any other (a step
+                // nearer than the nearest), so the next step starts there without a search.
+                let mut from = None;
                 loop {
-                    match p.free_step(&mut self.b, &target, &self.mode, checks) {
-                        Grew::Advanced(_) => continue,
+                    match p.free_step(&mut self.b, from, &target, &self.mode, checks) {
+                        Grew::Advanced(j) => from = Some(j),
                         Grew::Trapped => break,
                         Grew::Reached(j) => {
                             let ((mut path, root_a), (back, root_b)) = (self.a.path_to(i), self.b.path_to(j));
@@ -190,10 +191,10 @@ impl FreeConnect {
 }
 
 impl<S: Space> RobotPlanner<S> {
-    /// One step of `t` from its node nearest `aim` towards it, kept when the motion
-    /// touches nothing.
-    fn free_step(&self, t: &mut Tree, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
-        let near = t.nearest(aim);
+    /// One step of `t` from `from` (by default its node nearest `aim`) towards `aim`,
+    /// kept when the motion touches nothing.
+    fn free_step(&self, t: &mut Tree, from: Option<usize>, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
+        let near = from.unwrap_or_else(|| t.nearest(aim));
         let from = t.q(near).to_vec();
         let d = dist2(&from, aim).sqrt();
         let reached = d <= TREE_STEP;

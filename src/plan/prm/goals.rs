@@ -4,7 +4,7 @@
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::super::knn::{dist2, nearest_growing};
+use super::super::knn::dist2;
 use super::super::layers::{GoalNode, GraspGoal, Job, LabelKey, ModeKey, Node, State};
 use super::super::roadmap::{mix, normal, samples_at};
 use super::super::space::{Mode, Space};
@@ -27,9 +27,6 @@ pub(super) const TREE_SIGMA: f64 = 1.0;
 pub(super) const TREE_STEP: f64 = 0.3;
 /// Most steps of one connect march (see `RobotPlanner::connect`).
 const CONNECT_MAX: usize = 64;
-/// Tree nodes scanned one by one beyond those a tree's k-d index holds (see
-/// `nearest_in_tree`).
-const INDEX_TAIL: usize = 64;
 /// The seed stream of the goal trees.
 const TREE_STREAM: u64 = 0x7472_6565;
 
@@ -313,13 +310,13 @@ impl<S: Space> RobotPlanner<S> {
 }
 
 /// The node of goal `root`'s tree (the root included) nearest `q`; ties go to the older
-/// node (see [`nearest_growing`]).
+/// node (see [`GrowingIndex`](super::super::knn::GrowingIndex)).
 fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
     let node = |s: &State, i: usize| if i == 0 { root } else { s.goals[root as usize].tree[i - 1].0 };
     let n = 1 + s.goals[root as usize].tree.len();
     let dof = s.goals[root as usize].q.len();
-    let mut index = s.goals[root as usize].index.take();
-    let i = nearest_growing(&mut index, dof, n, INDEX_TAIL, |i| &s.goals[node(s, i) as usize].q, q);
+    let mut index = std::mem::take(&mut s.goals[root as usize].index);
+    let i = index.nearest(dof, n, |i| &s.goals[node(s, i) as usize].q, q);
     s.goals[root as usize].index = index;
     node(s, i)
 }
