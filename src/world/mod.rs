@@ -20,6 +20,7 @@ mod hull;
 mod ik;
 mod labels;
 mod load;
+mod lower_bound;
 mod pair_grid;
 mod proximity;
 mod robot;
@@ -39,6 +40,7 @@ pub use grasps::{
     APPROACH_LATERAL_TOLERANCE, APPROACH_OVERSHOOT_TOLERANCE,
 };
 pub use labels::{Blocker, Check, ObjectSet};
+pub use lower_bound::{distance_at_least, distance_at_least_from, GjkStart, LOWER_BOUND_TOLERANCE};
 pub use proximity::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, RobotAt};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};

@@ -15,7 +15,10 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
 use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
 use crate::resolve::ObjectId;
-use crate::world::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, ObjectSet, StaticOwner};
+use crate::world::{
+    aabb_gap, distance_at_least, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet,
+    StaticOwner, LOWER_BOUND_TOLERANCE,
+};
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
 /// are in place. The pairs (and their order) are the same while this is.
@@ -79,6 +82,8 @@ pub(super) struct Memory {
     movers: Vec<Movers>,
     /// Per pair: slack (metres) and its movers' odometer at the measure.
     measured: Vec<Option<(f64, f64)>>,
+    /// Per pair: the simplex its last GJK ended with (see `distance_at_least_from`).
+    hints: Vec<GjkStart>,
     /// Per movers this instant: how fast they can close a pair in, and their odometer.
     speed: Vec<f64>,
     odometer: Vec<f64>,
@@ -100,7 +105,7 @@ pub(super) struct Memory {
     fresh: bool,
     /// Take every pair's bound at every instant, not only the queues' fronts; every shape
     /// on its own, not a body of balls as one unit; and GJK without the turned boxes'
-    /// gap first: what those shortcuts are tested against.
+    /// gap first, from a cold start: what those shortcuts are tested against.
     pub every_pair: bool,
     /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
     /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
@@ -332,8 +337,21 @@ impl Cell<'_> {
                         continue;
                     }
                 }
-                // A pair parry cannot measure keeps its gap.
-                let d = shape_distance(x.pose, x.shape, y.pose, y.shape).map_or(gap, |d| d.max(gap));
+                // A lower bound on the distance (GJK's dual bound, within 10 µm of it),
+                // started from the pair's last simplex (not in the reference mode). A pair
+                // parry cannot measure keeps its gap.
+                let d = match memory.every_pair {
+                    true => distance_at_least(x.pose, x.shape, y.pose, y.shape, LOWER_BOUND_TOLERANCE),
+                    false => distance_at_least_from(
+                        x.pose,
+                        x.shape,
+                        y.pose,
+                        y.shape,
+                        LOWER_BOUND_TOLERANCE,
+                        &mut memory.hints[k],
+                    ),
+                };
+                let d = d.map_or(gap, |d| d.max(gap));
                 slack = slack.min(d - must);
                 *free = free.min(((d - must) / speed).max(0.0));
             }
@@ -544,6 +562,8 @@ impl Cell<'_> {
         }
         memory.measured.clear();
         memory.measured.resize(memory.pairs.len(), None);
+        memory.hints.clear();
+        memory.hints.resize(memory.pairs.len(), GjkStart::default());
         memory.fresh = true;
     }
 }
