@@ -325,5 +325,26 @@ mod rest_of_certifying_check {
                 prop_assert_eq!(c1.checks.get(), c2.checks.get() + c3.checks.get());
             }
         }
+
+        /// From a configuration that touches nothing, a segment checked without its first
+        /// sample answers as the whole coarse check (labels, block), one check fewer.
+        #[test]
+        fn leaving_a_clear_configuration_skips_it_alone(
+            a in proptest::array::uniform3(-3.0f64..3.0),
+            b in proptest::array::uniform3(-3.0f64..3.0),
+            step in 0.02f64..0.6,
+        ) {
+            let w = world();
+            let ctx = CheckCtx::new();
+            prop_assume!(w.check(R0, &a, &ctx) == Check::free());
+            let (whole, leaving) = (CheckCtx::new(), CheckCtx::new());
+            let c1 = w.check_segment(R0, &a, &b, step, &whole);
+            let c2 = w.check_segment_leaving(R0, &a, &b, step, &leaving);
+            prop_assert_eq!(c1.is_blocked(), c2.is_blocked());
+            if let (Check::Touches(x), Check::Touches(y)) = (&c1, &c2) {
+                prop_assert_eq!(x, y);
+                prop_assert_eq!(whole.checks.get(), leaving.checks.get() + 1);
+            }
+        }
     }
 }

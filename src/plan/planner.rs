@@ -42,6 +42,12 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn check_segment_leaving(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check_segment_leaving(self.robot, a, b, step, &c);
+        *checks += c.count();
+        out
+    }
     fn check_segment_held(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
         let c = ctx(mode);
         let out = self.world.check_segment_held(self.robot, a, b, step, &c);

@@ -24,7 +24,7 @@ use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
-use crate::world::{Check, ObjectSet};
+use crate::world::Check;
 
 /// Extension attempts (each followed by a connect) per roadmap sample while the query
 /// has no path: without them it gives up.
@@ -202,7 +202,8 @@ impl<S: Space> RobotPlanner<S> {
             true => aim.to_vec(),
             false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * TREE_STEP / d).collect(),
         };
-        if !self.clear(&from, &to, mode, &ObjectSet::new(), checks) {
+        // Every node of a tree touches nothing (its roots were checked, and each step's end).
+        if !self.clear_leaving(&from, &to, mode, checks) {
             return Grew::Trapped;
         }
         let i = t.add(&to, near);

@@ -56,4 +56,13 @@ impl<S: Space> RobotPlanner<S> {
         within(self.space.check_segment(a, b, res, mode, checks))
             && within(self.space.check_motion_rest(a, b, res, mode, checks))
     }
+
+    /// [`Self::clear`] with nothing allowed, of a step leaving `a`, itself known to touch
+    /// nothing in `mode` (a free-space tree's node): `a` is not checked again.
+    pub(super) fn clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        let res = self.settings.resolution;
+        let free = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
+        free(self.space.check_segment_leaving(a, b, res, mode, checks))
+            && free(self.space.check_motion_rest(a, b, res, mode, checks))
+    }
 }
