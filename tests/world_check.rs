@@ -327,7 +327,9 @@ mod rest_of_certifying_check {
         }
 
         /// From a configuration that touches nothing, a segment checked without its first
-        /// sample answers as the whole coarse check (labels, block), one check fewer.
+        /// sample answers as the whole coarse check (labels, block), one check fewer; and
+        /// without both ends, where the far end is not blocked, its label joined with the
+        /// far end's answers so too, two checks fewer.
         #[test]
         fn leaving_a_clear_configuration_skips_it_alone(
             a in proptest::array::uniform3(-3.0f64..3.0),
@@ -339,11 +341,20 @@ mod rest_of_certifying_check {
             prop_assume!(w.check(R0, &a, &ctx) == Check::free());
             let (whole, leaving) = (CheckCtx::new(), CheckCtx::new());
             let c1 = w.check_segment(R0, &a, &b, step, &whole);
-            let c2 = w.check_segment_leaving(R0, &a, &b, step, &leaving);
+            let c2 = w.check_segment_known(R0, (&a, &b), step, (true, false), &leaving);
             prop_assert_eq!(c1.is_blocked(), c2.is_blocked());
             if let (Check::Touches(x), Check::Touches(y)) = (&c1, &c2) {
                 prop_assert_eq!(x, y);
                 prop_assert_eq!(whole.checks.get(), leaving.checks.get() + 1);
+            }
+            if let Check::Touches(lb) = w.check(R0, &b, &ctx) {
+                let inside = CheckCtx::new();
+                let c3 = w.check_segment_known(R0, (&a, &b), step, (true, true), &inside);
+                prop_assert_eq!(c1.is_blocked(), c3.is_blocked());
+                if let (Check::Touches(x), Check::Touches(y)) = (&c1, &c3) {
+                    prop_assert_eq!(x, &y.union(&lb));
+                    prop_assert_eq!(whole.checks.get(), inside.checks.get() + 2);
+                }
             }
         }
     }

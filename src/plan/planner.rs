@@ -42,9 +42,16 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
-    fn check_segment_leaving(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
+    fn check_segment_known(
+        &self,
+        ends: (&[f64], &[f64]),
+        step: f64,
+        known: (bool, bool),
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> Check {
         let c = ctx(mode);
-        let out = self.world.check_segment_leaving(self.robot, a, b, step, &c);
+        let out = self.world.check_segment_known(self.robot, ends, step, known, &c);
         *checks += c.count();
         out
     }

@@ -23,10 +23,19 @@ pub trait Space: Sync {
     /// Labelled check of the straight joint-space segment `a`-`b` (endpoints included),
     /// at steps no longer than `step`.
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check;
-    /// `check_segment` of a segment leaving `a`, known to touch nothing in `mode` (a free
-    /// search tree's node): the same answer, `a` not checked again where a space can skip it.
-    fn check_segment_leaving(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
-        self.check_segment(a, b, step, mode, checks)
+    /// `check_segment` with the ends flagged in `known` (`a`, `b`) left unchecked where a
+    /// space can skip them: the caller has their checks in `mode`, neither blocked, and
+    /// joins their labels to this one's for `check_segment`'s answer.
+    fn check_segment_known(
+        &self,
+        ends: (&[f64], &[f64]),
+        step: f64,
+        known: (bool, bool),
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> Check {
+        let _ = known;
+        self.check_segment(ends.0, ends.1, step, mode, checks)
     }
     /// What `mode.held` adds to `check_segment` on the same samples, the robot's own
     /// bodies unchecked: used when the empty-hand label of the segment is known.

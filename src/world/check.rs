@@ -442,19 +442,26 @@ pub(super) fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) ->
 /// common case for long roadmap edges, is found after a few samples. The labels are
 /// the same in any order; only which blocker is reported may differ.
 pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, false))
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, (false, false)))
 }
 
-/// [`check_segment`] without its first sample, `a` itself, known to touch nothing in
-/// `ctx` (a search tree's node, stepping on): the same answer, one check fewer.
-pub(crate) fn check_segment_leaving(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, true))
+/// [`check_segment`] without the samples of its ends flagged in `known` (`a`, `b`),
+/// whose checks the caller already has: their labels are the caller's to join.
+pub(crate) fn check_segment_known(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    step: f64,
+    known: (bool, bool),
+    ctx: &CheckCtx,
+) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, known))
 }
 
 /// The samples of [`check_segment`], checking only the carried object (see
 /// [`check_posed`]).
 pub(crate) fn check_segment_held(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (false, false))
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (false, (false, false)))
 }
 
 /// The samples of `check_motion(.., step, parts, ..)` that [`check_segment`] at `step`
@@ -470,12 +477,12 @@ pub(crate) fn check_motion_rest(
     (step, parts): (f64, usize),
     ctx: &CheckCtx,
 ) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, (true, false))
+    segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, (true, (false, false)))
 }
 
 /// Sample `i` of `steps(a, b, step, parts) + 1` is skipped when `parts > 1` and `i` is a
-/// multiple of `parts` (see [`check_motion_rest`]), and sample 0 when `a_clear` (`a` is
-/// known to touch nothing in `ctx`).
+/// multiple of `parts` (see [`check_motion_rest`]), and sample 0 or `n` (`a` or `b`) when
+/// flagged in `known` (see [`check_segment_known`]).
 fn segment_coarse_to_fine(
     w: &World,
     r: RobotId,
@@ -483,7 +490,7 @@ fn segment_coarse_to_fine(
     b: &[f64],
     (step, parts): (f64, usize),
     ctx: &CheckCtx,
-    (robot_part, a_clear): (bool, bool),
+    (robot_part, (known_a, known_b)): (bool, (bool, bool)),
 ) -> Check {
     let m = &w.robots[r.index()];
     assert_dof(m, a);
@@ -499,7 +506,7 @@ fn segment_coarse_to_fine(
         let first = if stride == top { 0 } else { stride };
         let by = if stride == top { stride } else { 2 * stride };
         for i in (first..=n).step_by(by) {
-            if (parts > 1 && i % parts == 0) || (a_clear && i == 0) {
+            if (parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n) {
                 continue;
             }
             sample(a, b, i, n, &mut q);

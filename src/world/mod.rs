@@ -226,10 +226,18 @@ impl World {
     pub fn check_segment(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
         check::check_segment(self, r, a, b, step, ctx)
     }
-    /// [`World::check_segment`] of a segment leaving `a`, known to touch nothing in `ctx`:
-    /// the same answer without checking `a` again.
-    pub fn check_segment_leaving(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-        check::check_segment_leaving(self, r, a, b, step, ctx)
+    /// [`World::check_segment`] without the ends flagged in `known` (`a`, `b`), whose
+    /// checks in `ctx` the caller has: joined with their labels (neither blocked), the
+    /// same answer as `check_segment`.
+    pub fn check_segment_known(
+        &self,
+        r: RobotId,
+        ends: (&[f64], &[f64]),
+        step: f64,
+        known: (bool, bool),
+        ctx: &CheckCtx,
+    ) -> Check {
+        check::check_segment_known(self, r, ends, step, known, ctx)
     }
     /// What the carried object (`ctx.held`) adds to [`World::check_segment`] on the same
     /// samples: the robot's own bodies are not checked. The full label is this one's

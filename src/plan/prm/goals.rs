@@ -131,7 +131,9 @@ impl<S: Space> RobotPlanner<S> {
         let q_near = s.goals[near as usize].q.clone();
         let q = step_towards(&q_near, target, dist2(&q_near, target).sqrt());
         let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return None };
-        let Check::Touches(le) = self.tree_segment(&q_near, &q, c) else { return None };
+        let Check::Touches(le) = self.tree_segment((&q_near, tree_label(s, near)), (&q, Some(&l)), c) else {
+            return None;
+        };
         Some(add_tree_node(s, root, near, &q, (l, le), rr))
     }
 
@@ -153,23 +155,41 @@ impl<S: Space> RobotPlanner<S> {
             let q_cur = s.goals[cur as usize].q.clone();
             let d = dist2(&q_cur, to).sqrt();
             if d <= TREE_STEP {
-                return match self.tree_segment(&q_cur, to, c) {
+                return match self.tree_segment((&q_cur, tree_label(s, cur)), (to, None), c) {
                     Check::Touches(le) => Some((cur, le)),
                     Check::Blocked(_) => None,
                 };
             }
             let q = step_towards(&q_cur, to, d);
             let Check::Touches(l) = self.space.check(&q, &Mode::default(), c) else { return None };
-            let Check::Touches(le) = self.tree_segment(&q_cur, &q, c) else { return None };
+            let Check::Touches(le) = self.tree_segment((&q_cur, tree_label(s, cur)), (&q, Some(&l)), c) else {
+                return None;
+            };
             cur = add_tree_node(s, root, cur, &q, (l, le), rr);
         }
         None
     }
 
     /// A tree edge's check (the coarse one: a path through the tree is certified when it
-    /// wins, like any other).
-    fn tree_segment(&self, a: &[f64], b: &[f64], c: &mut u64) -> Check {
-        self.space.check_segment(a, b, self.settings.resolution, &Mode::default(), c)
+    /// wins, like any other). An end whose empty-hand label is given (a tree node, a step's
+    /// end just checked) is not checked again: its label is joined to the rest's, which
+    /// is the whole check's label.
+    fn tree_segment(
+        &self,
+        (a, la): (&[f64], Option<&ObjectSet>),
+        (b, lb): (&[f64], Option<&ObjectSet>),
+        c: &mut u64,
+    ) -> Check {
+        let res = self.settings.resolution;
+        match self.space.check_segment_known((a, b), res, (la.is_some(), lb.is_some()), &Mode::default(), c) {
+            Check::Touches(mut l) => {
+                for known in [la, lb].into_iter().flatten() {
+                    l.union_with(known);
+                }
+                Check::Touches(l)
+            }
+            blocked => blocked,
+        }
     }
 
     /// The node carried objects are taken to: home itself, or a goal node; or what
@@ -319,6 +339,12 @@ fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
     let i = index.nearest(dof, n, |i| &s.goals[node(s, i) as usize].q, q);
     s.goals[root as usize].index = index;
     node(s, i)
+}
+
+/// The empty-hand label of goal tree node `id` (a goal or a node added to its tree), when
+/// known and not blocked.
+fn tree_label(s: &State, id: u32) -> Option<&ObjectSet> {
+    s.labels.get(&LabelKey::Vertex(ModeKey::Empty, Node::Goal(id))).and_then(|l| l.as_ref())
 }
 
 /// An extension's aim near a node of goal `root`'s tree drawn uniformly (the root

@@ -62,7 +62,7 @@ impl<S: Space> RobotPlanner<S> {
     pub(super) fn clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
         let res = self.settings.resolution;
         let free = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
-        free(self.space.check_segment_leaving(a, b, res, mode, checks))
+        free(self.space.check_segment_known((a, b), res, (true, false), mode, checks))
             && free(self.space.check_motion_rest(a, b, res, mode, checks))
     }
 }
