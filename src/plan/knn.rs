@@ -216,16 +216,21 @@ mod tests {
         }
     }
 
+    /// Seeded draws of 0..m (a linear congruential generator's high bits).
+    fn grid_draws(seed: u64) -> impl FnMut(u64) -> u64 {
+        let mut s = seed;
+        move |m| {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) % m
+        }
+    }
+
     /// Seven dimensions (an arm's), points on a coarse grid so many distances tie, k from
     /// one to past the leaf size: the same (distance, index) lists as a linear scan.
     #[test]
     fn matches_linear_scan_with_ties_in_seven_dimensions() {
         let dim = 7;
-        let mut s = 777u64;
-        let mut rnd = |m: u64| {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) % m
-        };
+        let mut rnd = grid_draws(777);
         for n in [1usize, 5, 9, 17, 300] {
             let pts: Vec<f64> = (0..n * dim).map(|_| rnd(4) as f64).collect();
             let tree = KdTree::build(dim, &pts, n);
@@ -250,11 +255,7 @@ mod tests {
     #[test]
     fn growing_index_matches_linear_scan_as_points_arrive() {
         let dim = 7;
-        let mut s = 4242u64;
-        let mut rnd = |m: u64| {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) % m
-        };
+        let mut rnd = grid_draws(4242);
         let pts: Vec<Vec<f64>> = (0..1000).map(|_| (0..dim).map(|_| rnd(3) as f64).collect()).collect();
         let mut index = GrowingIndex::default();
         let mut largest = 0;
