@@ -103,8 +103,18 @@ impl KdTree {
     /// most `k` long): the `k` nearest of both.
     fn nearest_into<F: Fn(u32) -> bool>(&self, q: &[f64], k: usize, skip: &F, best: &mut Vec<(f64, u32)>) {
         if k > 0 {
-            let mut off = vec![0.0; self.dim];
-            self.search((0, self.order.len()), 0, q, k, skip, best, (&mut off, 0.0));
+            // An arm's joints fit the stack buffer (a growing tree searches a few trees
+            // per query); only a space of more dimensions allocates.
+            let mut buf = [0.0; 16];
+            let mut heap = Vec::new();
+            let off = match self.dim <= buf.len() {
+                true => &mut buf[..self.dim],
+                false => {
+                    heap.resize(self.dim, 0.0);
+                    &mut heap[..]
+                }
+            };
+            self.search((0, self.order.len()), 0, q, k, skip, best, (off, 0.0));
         }
     }
 

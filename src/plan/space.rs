@@ -30,11 +30,10 @@ pub trait Space: Sync {
         &self,
         ends: (&[f64], &[f64]),
         step: f64,
-        known: (bool, bool),
+        _known: (bool, bool),
         mode: &Mode,
         checks: &mut u64,
     ) -> Check {
-        let _ = known;
         self.check_segment(ends.0, ends.1, step, mode, checks)
     }
     /// What `mode.held` adds to `check_segment` on the same samples, the robot's own

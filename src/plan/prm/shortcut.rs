@@ -47,22 +47,31 @@ impl<S: Space> RobotPlanner<S> {
         out
     }
 
-    /// Whether the certifying check of a -> b touches only `allowed` (nothing, for the
-    /// free-space trees' steps): its coarse samples first (most moves that fail are blocked, and a few samples spread along the
-    /// segment find it), then the rest.
-    pub(super) fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
-        let res = self.settings.resolution;
-        let within = |c: Check| matches!(c, Check::Touches(l) if l.is_subset(allowed));
-        within(self.space.check_segment(a, b, res, mode, checks))
-            && within(self.space.check_motion_rest(a, b, res, mode, checks))
+    /// Whether the certifying check of a -> b touches only `allowed`.
+    fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
+        self.clear_known((a, b), false, mode, allowed, checks)
     }
 
     /// [`Self::clear`] with nothing allowed, of a step leaving `a`, itself known to touch
     /// nothing in `mode` (a free-space tree's node): `a` is not checked again.
     pub(super) fn clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        self.clear_known((a, b), true, mode, &ObjectSet::new(), checks)
+    }
+
+    /// The certifying check's coarse samples first (most moves that fail are blocked, and
+    /// a few samples spread along the segment find it), `a`'s left out when `a_known`
+    /// (it touches nothing in `mode`), then the rest.
+    fn clear_known(
+        &self,
+        (a, b): (&[f64], &[f64]),
+        a_known: bool,
+        mode: &Mode,
+        allowed: &ObjectSet,
+        checks: &mut u64,
+    ) -> bool {
         let res = self.settings.resolution;
-        let free = |c: Check| matches!(c, Check::Touches(l) if l.is_empty());
-        free(self.space.check_segment_known((a, b), res, (true, false), mode, checks))
-            && free(self.space.check_motion_rest(a, b, res, mode, checks))
+        let within = |c: Check| matches!(c, Check::Touches(l) if l.is_subset(allowed));
+        within(self.space.check_segment_known((a, b), res, (a_known, false), mode, checks))
+            && within(self.space.check_motion_rest(a, b, res, mode, checks))
     }
 }
