@@ -13,6 +13,13 @@
 //! where the last round stopped, with its own seeded stream: the trees are a function
 //! of the seed, the goal and the round, as the roadmap is. As the goal trees do, half
 //! the extensions aim near a node of the growing tree, half at a uniform sample.
+//!
+//! As the roadmap's edges and the goal trees' are, a step is first checked at the
+//! planner's resolution only; the rest of the certifying check (four times as many
+//! samples) runs on the steps of a path once the trees meet, and a step that fails it is
+//! taken out of its tree with everything grown from it (Bohlin and Kavraki's lazy
+//! evaluation). Most steps never lie on the path: the Panda's `narrow_gap` problems spent
+//! about half their checks certifying them.
 
 use std::time::Instant;
 
@@ -35,10 +42,17 @@ pub(super) const PER_SAMPLE_FEWER: u64 = 16;
 const STREAM: u64 = 0x636f_6e6e;
 
 /// One tree: flat configurations, each node's parent, and a k-d index of the older nodes.
+/// A node is added once the coarse samples of its step touch nothing; the rest of the
+/// certifying check waits until the step is on a path between the trees (`sure`), and a
+/// step that fails it takes its node and every node grown from it out of the tree (`dead`).
 struct Tree {
     dof: usize,
     qs: Vec<f64>,
     parent: Vec<u32>,
+    /// Per node: the step from its parent passed the whole certifying check (roots: true).
+    sure: Vec<bool>,
+    /// Per node: it or an ancestor's step failed that check; never a nearest node again.
+    dead: Vec<bool>,
     index: GrowingIndex,
 }
 
@@ -47,7 +61,15 @@ impl Tree {
     fn new(roots: &[&[f64]]) -> Tree {
         let dof = roots.first().map_or(0, |r| r.len());
         let qs = roots.iter().flat_map(|r| r.iter().copied()).collect();
-        Tree { dof, qs, parent: vec![u32::MAX; roots.len()], index: GrowingIndex::default() }
+        let n = roots.len();
+        Tree {
+            dof,
+            qs,
+            parent: vec![u32::MAX; n],
+            sure: vec![true; n],
+            dead: vec![false; n],
+            index: GrowingIndex::default(),
+        }
     }
     fn len(&self) -> usize {
         self.parent.len()
@@ -55,26 +77,53 @@ impl Tree {
     fn q(&self, i: usize) -> &[f64] {
         &self.qs[i * self.dof..(i + 1) * self.dof]
     }
-    /// The node nearest `q`; ties go to the older node.
+    /// The live node nearest `q`; ties go to the older node.
     fn nearest(&mut self, q: &[f64]) -> usize {
-        let (dim, qs) = (self.dof, &self.qs);
-        self.index.nearest(dim, self.parent.len(), |i| &qs[i * dim..(i + 1) * dim], q)
+        let (dim, qs, dead) = (self.dof, &self.qs, &self.dead);
+        self.index.nearest(dim, self.parent.len(), |i| &qs[i * dim..(i + 1) * dim], q, |i| dead[i as usize])
     }
     fn add(&mut self, q: &[f64], parent: usize) -> usize {
         self.qs.extend_from_slice(q);
         self.parent.push(parent as u32);
+        self.sure.push(false);
+        self.dead.push(false);
         self.len() - 1
     }
-    /// The configurations from its root to node `i`, and the root (roots are the first
-    /// nodes, in the order given).
-    fn path_to(&self, mut i: usize) -> (Vec<Vec<f64>>, usize) {
-        let mut out = vec![self.q(i).to_vec()];
+    /// The nodes from its root to node `i`.
+    fn chain(&self, mut i: usize) -> Vec<usize> {
+        let mut out = vec![i];
         while self.parent[i] != u32::MAX {
             i = self.parent[i] as usize;
-            out.push(self.q(i).to_vec());
+            out.push(i);
         }
         out.reverse();
-        (out, i)
+        out
+    }
+    /// Takes node `i` and its descendants out (a child is always younger than its parent).
+    fn kill(&mut self, i: usize) {
+        self.dead[i] = true;
+        for k in i + 1..self.len() {
+            let p = self.parent[k];
+            if p != u32::MAX && self.dead[p as usize] {
+                self.dead[k] = true;
+            }
+        }
+    }
+    /// Finishes the certifying check of each step on the path from the root to node `i`;
+    /// false (the failing step's subtree taken out) when one fails.
+    fn certify<S: Space>(&mut self, p: &RobotPlanner<S>, i: usize, mode: &Mode, checks: &mut u64) -> bool {
+        for k in self.chain(i) {
+            if self.sure[k] {
+                continue;
+            }
+            let parent = self.parent[k] as usize;
+            if !p.rest_clear(self.q(parent), self.q(k), mode, checks) {
+                self.kill(k);
+                return false;
+            }
+            self.sure[k] = true;
+        }
+        true
     }
 }
 
@@ -124,6 +173,12 @@ impl FreeConnect {
         Some(FreeConnect { a, b, swapped: false, rng, mode, goals: usable, attempted: 0 })
     }
 
+    /// Nodes taken out of the trees by the certifying check.
+    #[cfg(test)]
+    pub(super) fn dead_nodes(&self) -> usize {
+        self.a.dead.iter().chain(&self.b.dead).filter(|d| **d).count()
+    }
+
     /// The mode the search checks in.
     pub(super) fn mode(&self) -> &Mode {
         &self.mode
@@ -170,8 +225,15 @@ impl FreeConnect {
                         Grew::Advanced(j) => from = Some(j),
                         Grew::Trapped => break,
                         Grew::Reached(j) => {
-                            let ((mut path, root_a), (back, root_b)) = (self.a.path_to(i), self.b.path_to(j));
-                            path.extend(back.into_iter().rev().skip(1));
+                            // Both ends of the path certified, or the trees go on growing
+                            // without the step that failed.
+                            if !(self.a.certify(p, i, &self.mode, checks) && self.b.certify(p, j, &self.mode, checks)) {
+                                break;
+                            }
+                            let (chain_a, chain_b) = (self.a.chain(i), self.b.chain(j));
+                            let (root_a, root_b) = (chain_a[0], chain_b[0]);
+                            let mut path: Vec<Vec<f64>> = chain_a.iter().map(|&k| self.a.q(k).to_vec()).collect();
+                            path.extend(chain_b.iter().rev().skip(1).map(|&k| self.b.q(k).to_vec()));
                             let goal_root = if self.swapped {
                                 path.reverse();
                                 root_a
@@ -191,8 +253,8 @@ impl FreeConnect {
 }
 
 impl<S: Space> RobotPlanner<S> {
-    /// One step of `t` from `from` (by default its node nearest `aim`) towards `aim`,
-    /// kept when the motion touches nothing.
+    /// One step of `t` from `from` (by default its live node nearest `aim`) towards `aim`,
+    /// kept when the coarse samples of the motion touch nothing (see [`Tree`]).
     fn free_step(&self, t: &mut Tree, from: Option<usize>, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
         let near = from.unwrap_or_else(|| t.nearest(aim));
         let from = t.q(near).to_vec();
@@ -203,7 +265,7 @@ impl<S: Space> RobotPlanner<S> {
             false => from.iter().zip(aim).map(|(x, y)| x + (y - x) * TREE_STEP / d).collect(),
         };
         // Every node of a tree touches nothing (its roots were checked, and each step's end).
-        if !self.clear_leaving(&from, &to, mode, checks) {
+        if !self.coarse_clear_leaving(&from, &to, mode, checks) {
             return Grew::Trapped;
         }
         let i = t.add(&to, near);

@@ -47,21 +47,27 @@ impl<S: Space> RobotPlanner<S> {
         out
     }
 
-    /// Whether the certifying check of a -> b touches only `allowed`.
+    /// Whether the certifying check of a -> b touches only `allowed`: its coarse samples
+    /// first (most moves that fail are blocked, and a few samples spread along the
+    /// segment find it), then the rest.
     fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
-        self.clear_known((a, b), false, mode, allowed, checks)
+        self.coarse_within((a, b), false, mode, allowed, checks) && self.rest_within((a, b), mode, allowed, checks)
     }
 
-    /// [`Self::clear`] with nothing allowed, of a step leaving `a`, itself known to touch
-    /// nothing in `mode` (a free-space tree's node): `a` is not checked again.
-    pub(super) fn clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        self.clear_known((a, b), true, mode, &ObjectSet::new(), checks)
+    /// The coarse samples of the certifying check of a step leaving `a`, itself known to
+    /// touch nothing in `mode` (a free-space tree's node), touch nothing; `a` is not
+    /// checked again. The rest is [`Self::rest_clear`]'s.
+    pub(super) fn coarse_clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        self.coarse_within((a, b), true, mode, &ObjectSet::new(), checks)
     }
 
-    /// The certifying check's coarse samples first (most moves that fail are blocked, and
-    /// a few samples spread along the segment find it), `a`'s left out when `a_known`
-    /// (it touches nothing in `mode`), then the rest.
-    fn clear_known(
+    /// The samples of the certifying check of a -> b that the coarse one does not take
+    /// touch nothing in `mode`.
+    pub(super) fn rest_clear(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        self.rest_within((a, b), mode, &ObjectSet::new(), checks)
+    }
+
+    fn coarse_within(
         &self,
         (a, b): (&[f64], &[f64]),
         a_known: bool,
@@ -70,8 +76,14 @@ impl<S: Space> RobotPlanner<S> {
         checks: &mut u64,
     ) -> bool {
         let res = self.settings.resolution;
-        let within = |c: Check| matches!(c, Check::Touches(l) if l.is_subset(allowed));
-        within(self.space.check_segment_known((a, b), res, (a_known, false), mode, checks))
-            && within(self.space.check_motion_rest(a, b, res, mode, checks))
+        within(self.space.check_segment_known((a, b), res, (a_known, false), mode, checks), allowed)
     }
+
+    fn rest_within(&self, (a, b): (&[f64], &[f64]), mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
+        within(self.space.check_motion_rest(a, b, self.settings.resolution, mode, checks), allowed)
+    }
+}
+
+fn within(c: Check, allowed: &ObjectSet) -> bool {
+    matches!(c, Check::Touches(l) if l.is_subset(allowed))
 }

@@ -159,14 +159,16 @@ struct Slit {
     hole: f64,
     /// Whether the wall has its door (object 0).
     door: bool,
+    /// Half the wall's thickness.
+    wall: f64,
 }
 
 impl Slit {
     fn new(hole: f64) -> Slit {
-        Slit { limits: vec![(-1.0, 1.0); 3], home: vec![-0.8, -0.7, 0.7], hole, door: true }
+        Slit { limits: vec![(-1.0, 1.0); 3], home: vec![-0.8, -0.7, 0.7], hole, door: true, wall: 0.05 }
     }
     fn at(&self, q: &[f64]) -> Check {
-        if q[0].abs() >= 0.05 || (q[1].abs() < self.hole && q[2].abs() < self.hole) {
+        if q[0].abs() >= self.wall || (q[1].abs() < self.hole && q[2].abs() < self.hole) {
             return Check::free();
         }
         match self.door && q[1] > 0.5 {
@@ -260,9 +262,38 @@ fn the_free_trees_find_the_hole_and_never_the_door() {
     assert_eq!(end, 1);
 }
 
+/// A wall 1 cm thick, thinner than the planner's resolution (2°, 0.035) and thicker than
+/// the certifying check's step (a quarter of it): steps checked at the resolution alone
+/// jump through it, so the free trees grow nodes behind it that the certifying check
+/// takes out again once they lie on a path. Every path returned crosses through the hole,
+/// clear at the certifying resolution. (Returning a path whose steps skipped the rest of
+/// the check fails it: all 8 seeds then take a path through the wall.)
+#[test]
+fn steps_through_a_wall_thinner_than_the_resolution_are_taken_out() {
+    let mut taken_out = 0;
+    for seed in 0..8 {
+        let space = Slit { wall: 0.005, door: false, ..Slit::new(0.1) };
+        let settings = PlannerSettings { max_samples: 5000, seed, ..PlannerSettings::default() };
+        let p = RobotPlanner::new(space, &settings, &PrmOptions::default(), 0);
+        let mut checks = 0;
+        let mut search =
+            super::connect::FreeConnect::new(&p, p.space().home(), &[&BEHIND], Mode::default(), &mut checks)
+                .expect("home and goal are free");
+        let t0 = std::time::Instant::now();
+        let (path, _) = search.grow(&p, 50_000, t0, &mut checks).expect("a path through the hole");
+        for w in path.windows(2) {
+            let c = p.space().check_motion(&w[0], &w[1], p.settings.resolution, &Mode::default(), &mut 0);
+            assert_eq!(c, Check::free(), "seed {seed}: {:?} -> {:?}", w[0], w[1]);
+        }
+        taken_out += search.dead_nodes();
+    }
+    assert!(taken_out > 0, "no step went through the wall: the test shows nothing");
+}
+
 /// Configuration queries whose roadmap, at 1000 samples, finds only the door (a hole of
-/// 8 cm square in a 2 m wall): with the free-space trees beside it, 7 of 8 seeds remove
-/// nothing (without them, none did), along paths clear at the certifying resolution.
+/// 8 cm square in a 2 m wall): with the free-space trees beside it, 6 of 8 seeds remove
+/// nothing (without them, none did; 47 of seeds 0..64), along paths clear at the
+/// certifying resolution.
 #[test]
 fn configuration_queries_go_through_the_hole_not_the_door() {
     let mut free = 0;
@@ -279,7 +310,7 @@ fn configuration_queries_go_through_the_hole_not_the_door() {
             }
         }
     }
-    assert_eq!(free, 7);
+    assert_eq!(free, 6);
 }
 
 /// A wall with no hole and no door: the query gives up having spent both budgets, the
@@ -295,8 +326,8 @@ fn a_query_that_gives_up_says_what_both_searches_spent() {
 }
 
 /// A grasp behind the wall, with the drop at home: the free search's two legs (to the
-/// pre-grasp, then back carrying the object) go through the hole in 4 of 8 seeds, where
-/// the roadmap alone at 1000 samples takes the door in all 8.
+/// pre-grasp, then back carrying the object) go through the hole in 3 of 8 seeds (33 of
+/// seeds 0..64), where the roadmap alone at 1000 samples takes the door in all 8.
 #[test]
 fn grasp_queries_go_through_the_hole_there_and_back() {
     let mut free = 0;
@@ -316,7 +347,7 @@ fn grasp_queries_go_through_the_hole_there_and_back() {
             }
         }
     }
-    assert_eq!(free, 4);
+    assert_eq!(free, 3);
 }
 
 /// Certifying only the samples a coarse label did not cover gives the label the whole
