@@ -38,6 +38,14 @@ use crate::world::Check;
 pub(super) const PER_SAMPLE_NONE: u64 = 64;
 /// The same while it has a path with removals: they can only make it remove fewer.
 pub(super) const PER_SAMPLE_FEWER: u64 = 16;
+/// The trees take turns extending, as in RRT-Connect, until one holds more than this
+/// many times the other's nodes; then the smaller one extends (and the larger marches
+/// towards it) until they are back within it. A goal in a pocket (the hand through a
+/// window) grows a tree of tens of nodes while the start's grows thousands, and
+/// extensions from the pocket are what get out of it: LaValle's balanced bidirectional
+/// search, kept for lopsided trees only (alike trees taking turns did better on the
+/// slit tests, 47 of 64 seeds against 42 with strict balance).
+const BALANCE: usize = 4;
 /// The seed stream of this search.
 const STREAM: u64 = 0x636f_6e6e;
 
@@ -146,6 +154,9 @@ pub(super) struct FreeConnect {
     goals: Vec<usize>,
     /// Extension attempts so far.
     pub(super) attempted: u64,
+    /// A tree more than this many times the other's size hands it the next extension
+    /// (see [`BALANCE`]); `usize::MAX`: the trees take turns.
+    balance: usize,
 }
 
 impl FreeConnect {
@@ -170,7 +181,23 @@ impl FreeConnect {
         let bits: Vec<u64> = roots.iter().flat_map(|r| r.iter()).map(|v| v.to_bits()).collect();
         let rng = ChaCha8Rng::seed_from_u64(mix(&[p.seed, STREAM, mix(&bits)]));
         let (a, b) = (Tree::new(&[start]), Tree::new(&roots));
-        Some(FreeConnect { a, b, swapped: false, rng, mode, goals: usable, attempted: 0 })
+        Some(FreeConnect { a, b, swapped: false, rng, mode, goals: usable, attempted: 0, balance: BALANCE })
+    }
+
+    /// The search with the trees taking turns whatever their sizes.
+    #[cfg(test)]
+    pub(super) fn taking_turns(self) -> FreeConnect {
+        FreeConnect { balance: usize::MAX, ..self }
+    }
+
+    /// The sizes of the two trees (start's, goals').
+    #[cfg(test)]
+    pub(super) fn sizes(&self) -> (usize, usize) {
+        if self.swapped {
+            (self.b.len(), self.a.len())
+        } else {
+            (self.a.len(), self.b.len())
+        }
     }
 
     /// Nodes taken out of the trees by the certifying check.
@@ -201,6 +228,10 @@ impl FreeConnect {
                 return None;
             }
             self.attempted += 1;
+            if self.a.len() > self.b.len().saturating_mul(self.balance) {
+                std::mem::swap(&mut self.a, &mut self.b);
+                self.swapped = !self.swapped;
+            }
             // As the goal trees' (see `goals::local_target`): half the aims near a node of
             // the growing tree, so that a tree in a pocket spreads through it.
             let aim: Vec<f64> = if self.rng.random::<f64>() < TREE_LOCAL {
