@@ -175,20 +175,12 @@ impl KdTree {
 
     fn visit<F: Fn(u32) -> bool>(&self, pos: usize, q: &[f64], k: usize, skip: &F, best: &mut Vec<(f64, u32)>) {
         let (p, id) = self.at(pos);
-        if skip(id) {
-            return;
-        }
-        // Summed in `dist2`'s order (the same value), and left as soon as it passes the
-        // worst kept: most points a search visits are far, and lose within a few axes.
-        let worst = if best.len() < k { f64::INFINITY } else { best[best.len() - 1].0 };
-        let mut d = 0.0;
-        for (x, y) in p.iter().zip(q) {
-            d += (x - y) * (x - y);
-            if d > worst {
-                return;
+        if !skip(id) {
+            let d = dist2(p, q);
+            if best.len() < k || d <= best[best.len() - 1].0 {
+                insert(best, k, (d, id));
             }
         }
-        insert(best, k, (d, id));
     }
 }
 
