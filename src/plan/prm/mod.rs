@@ -212,6 +212,30 @@ impl<S: Space> RobotPlanner<S> {
             {
                 break;
             }
+            // From the third round on, while no path touching nothing is known (and a
+            // first path is not all that was asked for), the free-space trees grow beside
+            // the roadmap, before the round's search: when they get through, the round's
+            // graph (the largest yet) is not searched.
+            let wanted = match &best {
+                None => true,
+                Some((b, _)) => {
+                    !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
+                }
+            };
+            if wanted && r > SEARCH_FIRST_ROUNDS {
+                if !free_ready {
+                    free = free::FreeSearch::new(self, object, &goals, checks);
+                    free_ready = true;
+                }
+                if let Some(f) = free.as_mut() {
+                    let (first, max) = (self.opts.first_batch, self.settings.max_samples);
+                    let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
+                    let per = if best.is_none() { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
+                    if let Some(found) = f.grow(self, &goals, per * drawn, t0, checks) {
+                        return Ok(found);
+                    }
+                }
+            }
             // Until a first path is found, trees grown from the goals search their
             // neighbourhood, where narrow entrances (a cage, a shelf) usually are. In the
             // first rounds, whose graphs are small, the trees grow only when the round's
@@ -246,29 +270,6 @@ impl<S: Space> RobotPlanner<S> {
                 let improved = best.as_ref().is_none_or(|(b, _)| cand.as_ref().unwrap().set.len() < b.set.len());
                 let since = if improved { r } else { best.as_ref().unwrap().1 };
                 best = Some((cand.unwrap(), since));
-            }
-            // From the third round on, while no path touching nothing is known (and a
-            // first path is not all that was asked for), the free-space trees grow beside
-            // the roadmap.
-            let wanted = match &best {
-                None => true,
-                Some((b, _)) => {
-                    !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
-                }
-            };
-            if wanted && r > SEARCH_FIRST_ROUNDS {
-                if !free_ready {
-                    free = free::FreeSearch::new(self, object, &goals, checks);
-                    free_ready = true;
-                }
-                if let Some(f) = free.as_mut() {
-                    let (first, max) = (self.opts.first_batch, self.settings.max_samples);
-                    let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
-                    let per = if best.is_none() { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
-                    if let Some(found) = f.grow(self, &goals, per * drawn, t0, checks) {
-                        return Ok(found);
-                    }
-                }
             }
             if let Some((b, since)) = &best {
                 if b.set.is_empty() || self.settings.first_path {
