@@ -119,10 +119,10 @@ impl Tree {
             }
         }
     }
-    /// Finishes the certifying check of each step on the path from the root to node `i`;
+    /// Finishes the certifying check of each step along `chain` (from [`Tree::chain`]);
     /// false (the failing step's subtree taken out) when one fails.
-    fn certify<S: Space>(&mut self, p: &RobotPlanner<S>, i: usize, mode: &Mode, checks: &mut u64) -> bool {
-        for k in self.chain(i) {
+    fn certify<S: Space>(&mut self, p: &RobotPlanner<S>, chain: &[usize], mode: &Mode, checks: &mut u64) -> bool {
+        for &k in chain {
             if self.sure[k] {
                 continue;
             }
@@ -260,10 +260,12 @@ impl FreeConnect {
                         Grew::Reached(j) => {
                             // Both ends of the path certified, or the trees go on growing
                             // without the step that failed.
-                            if !(self.a.certify(p, i, &self.mode, checks) && self.b.certify(p, j, &self.mode, checks)) {
+                            let (chain_a, chain_b) = (self.a.chain(i), self.b.chain(j));
+                            if !(self.a.certify(p, &chain_a, &self.mode, checks)
+                                && self.b.certify(p, &chain_b, &self.mode, checks))
+                            {
                                 break;
                             }
-                            let (chain_a, chain_b) = (self.a.chain(i), self.b.chain(j));
                             let (root_a, root_b) = (chain_a[0], chain_b[0]);
                             let mut path: Vec<Vec<f64>> = chain_a.iter().map(|&k| self.a.q(k).to_vec()).collect();
                             path.extend(chain_b.iter().rev().skip(1).map(|&k| self.b.q(k).to_vec()));
