@@ -6,7 +6,7 @@
 //! `RAYON_NUM_THREADS=1 cargo bench --bench families` (one core); `FAMILY_N` problems
 //! per arm and family (default 2), `FAMILY_ARMS=Tx90,Ur5` for some arms only. The
 //! solved fraction, median and 95th percentile over the problems known to have a path
-//! are printed by `tests/families.rs`'s `solved_fraction_and_times_over_known_paths`.
+//! are measured by `benches/families_known.rs`.
 
 use std::path::Path;
 

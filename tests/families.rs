@@ -16,7 +16,7 @@ use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::{RobotId, Target};
 use declutter::schedule::Status;
 use declutter::world::{self, World, WorldOptions};
-use families::known::{Known, ITERATIONS, KNOWN};
+use families::known::{ITERATIONS, KNOWN};
 use families::{probe, problem, shared_robots, Arm, ARMS, FAMILIES};
 
 /// A problem's world and its target configuration.
@@ -411,46 +411,4 @@ fn establish_known_paths() {
         }
     }
     println!("// {:.0} s in all", started.elapsed().as_secs_f64());
-}
-
-/// The `p`-quantile of sorted `xs` (nearest rank).
-fn quantile(xs: &[f64], p: f64) -> f64 {
-    xs[((p * xs.len() as f64).ceil() as usize).clamp(1, xs.len()) - 1]
-}
-
-/// Over the problems known to have a path, per arm and family: the solved fraction,
-/// the removals, and the median and 95th percentile of the wall time from loading to a
-/// verified schedule (resolve, world build, plan, verify), as a Markdown table. One
-/// core: `RAYON_NUM_THREADS=1 cargo test --release -j1 --test families -- --ignored
-/// --nocapture over_known_paths` (`FAMILY_ARMS=Ur5,PandaMesh` for some arms only,
-/// `FAMILY_NAMES=cage,narrow_gap` for some families only).
-#[test]
-#[ignore = "a long run: every problem known to have a path"]
-fn solved_fraction_and_times_over_known_paths() {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("families-measure");
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    let Some(robots) = shared_robots() else { return };
-    println!("| arm | family | solved / known path | removals | median | p95 |\n|---|---|---:|---:|---:|---:|");
-    for arm in ARMS.into_iter().filter(|a| chosen("FAMILY_ARMS", &format!("{a:?}"))) {
-        let probe = probe(arm, &robots, &dir).expect("the arm builds on the table");
-        for &Known { family, paths, .. } in KNOWN.iter().filter(|k| k.arm == arm && chosen("FAMILY_NAMES", k.family)) {
-            let (mut solved, mut removals, mut secs) = (0, 0, Vec::new());
-            for &(i, _) in paths {
-                let p = problem(arm, &probe, &robots, &dir, family, i).expect("a known problem draws its goal");
-                let t = Instant::now();
-                let (ok, r) = solve(&p.path);
-                secs.push(t.elapsed().as_secs_f64());
-                solved += u64::from(ok);
-                removals += r;
-            }
-            secs.sort_by(f64::total_cmp);
-            let ms = |p| if secs.is_empty() { f64::NAN } else { 1000.0 * quantile(&secs, p) };
-            println!(
-                "| {arm:?} | `{family}` | {solved} / {} | {removals} | {:.0} ms | {:.0} ms |",
-                paths.len(),
-                ms(0.5),
-                ms(0.95)
-            );
-        }
-    }
 }

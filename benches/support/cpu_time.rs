@@ -20,7 +20,7 @@ impl CpuTime {
     pub fn process() -> Self {
         CpuTime { clock: libc::CLOCK_PROCESS_CPUTIME_ID, unit: Unit { div: 1e6, name: "ms (process CPU)" } }
     }
-    fn now_ns(&self) -> u64 {
+    pub fn now_ns(&self) -> u64 {
         let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
         // SAFETY: `t` is a valid timespec the call writes into.
         let rc = unsafe { libc::clock_gettime(self.clock, &mut t) };
