@@ -1,7 +1,7 @@
 //! The `declutter` binary end to end: exit codes (0 ok, 1 input or usage error or an
 //! invalid schedule, 2 infeasible), `--out`, `verify` and `graph` on shipped examples.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use declutter::driver::parse_schedule;
@@ -177,6 +177,19 @@ fn a_proof_and_a_budget_give_up_exit_2_with_distinct_codes() {
     assert!(gave_up.contains("raise `max_samples`"), "{gave_up}");
     assert!(!gave_up.contains("grasp"), "{gave_up}");
     insta::assert_snapshot!("compile_gave_up_stderr", mask_time(&gave_up));
+    // And it was the budget: with the default one the same cell is solved.
+    let cell = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/cell.dcl");
+    let text = std::fs::read_to_string("tests/fixtures/plan/gave_up.dcl").expect("the fixture");
+    let raised = text
+        .replace("max_samples 2", "max_samples 5000")
+        .replace("\"../../../examples/cell.dcl\"", &format!("{:?}", cell.display().to_string()));
+    assert_ne!(raised, text);
+    let scenario = dir.path("raised.dcl");
+    std::fs::write(&scenario, raised).expect("written");
+    let solved = dir.path("solved.yaml");
+    let o = run(&["compile", &scenario, "--out", &solved]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(status(&solved), schedule::Status::Solved);
 }
 
 #[test]

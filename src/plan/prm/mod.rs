@@ -222,18 +222,21 @@ impl<S: Space> RobotPlanner<S> {
                     !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
                 }
             };
-            if wanted && r > SEARCH_FIRST_ROUNDS {
+            // The round's extension attempts for the free-space trees (see `connect`).
+            let mut grow_free = |free: &mut Option<free::FreeSearch>, none_yet: bool, checks: &mut u64| {
                 if !free_ready {
-                    free = free::FreeSearch::new(self, object, &goals, checks);
+                    *free = free::FreeSearch::new(self, object, &goals, checks);
                     free_ready = true;
                 }
-                if let Some(f) = free.as_mut() {
-                    let (first, max) = (self.opts.first_batch, self.settings.max_samples);
-                    let drawn = samples_at(r, first, max) - samples_at(r - 1, first, max);
-                    let per = if best.is_none() { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
-                    if let Some(found) = f.grow(self, &goals, per * drawn, t0, checks) {
-                        return Ok(found);
-                    }
+                let f = free.as_mut()?;
+                let (first, max) = (self.opts.first_batch, self.settings.max_samples);
+                let drawn = samples_at(r, first, max) - if r > 1 { samples_at(r - 1, first, max) } else { 0 };
+                let per = if none_yet { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
+                f.grow(self, &goals, per * drawn, t0, checks)
+            };
+            if wanted && r > SEARCH_FIRST_ROUNDS {
+                if let Some(found) = grow_free(&mut free, best.is_none(), checks) {
+                    return Ok(found);
                 }
             }
             // Until a first path is found, trees grown from the goals search their
@@ -252,6 +255,14 @@ impl<S: Space> RobotPlanner<S> {
                     }
                 }
                 cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks);
+            }
+            // In the first rounds the trees grow only after the round's roadmap found no
+            // path at all: a query the small roadmap answers (with removals or without)
+            // spends nothing on them.
+            if cand.is_none() && best.is_none() && trees && r <= SEARCH_FIRST_ROUNDS {
+                if let Some(found) = grow_free(&mut free, true, checks) {
+                    return Ok(found);
+                }
             }
             let cand = cand.map(|mut c| {
                 c.goal = goals.iter().position(|g| g.key == live[c.goal].key).expect("live goal");
