@@ -59,11 +59,11 @@ impl GrowingIndex {
             self.trees.push(KdTree::build_run(dim, flat, start as u32));
             self.held = end;
         }
-        let mut best: Vec<(f64, u32)> = Vec::with_capacity(2);
+        let mut best = (f64::INFINITY, u32::MAX);
         for t in &self.trees {
-            t.nearest_into(q, 1, &skip, &mut best);
+            t.nearest_one(q, &skip, &mut best);
         }
-        let mut best = best.first().map_or((f64::INFINITY, 0), |&(d, i)| (d, i as usize));
+        let mut best = if best.1 == u32::MAX { (f64::INFINITY, 0) } else { (best.0, best.1 as usize) };
         for i in self.held..n {
             if skip(i as u32) {
                 continue;
@@ -126,6 +126,83 @@ impl KdTree {
                 }
             };
             self.search((0, self.order.len()), 0, q, k, skip, best, (off, 0.0));
+        }
+    }
+
+    /// Lowers `best` (squared distance, index; `u32::MAX` for none yet) to the point
+    /// nearest `q` that `skip` leaves in, ties to the lower index: what `nearest_into` with
+    /// `k = 1` finds, by a search whose points are arrays of an arm's dimension (the
+    /// growing trees' queries were most of a hard query's instructions, in the generic
+    /// loops and the list of the best).
+    fn nearest_one<F: Fn(u32) -> bool>(&self, q: &[f64], skip: &F, best: &mut (f64, u32)) {
+        match self.dim {
+            6 => self.one_fixed::<6, F>(q, skip, best),
+            7 => self.one_fixed::<7, F>(q, skip, best),
+            _ => {
+                let mut list: Vec<(f64, u32)> = Vec::with_capacity(2);
+                if best.1 != u32::MAX {
+                    list.push(*best);
+                }
+                self.nearest_into(q, 1, skip, &mut list);
+                if let Some(&b) = list.first() {
+                    *best = b;
+                }
+            }
+        }
+    }
+
+    fn one_fixed<const D: usize, F: Fn(u32) -> bool>(&self, q: &[f64], skip: &F, best: &mut (f64, u32)) {
+        let Ok(q) = <&[f64; D]>::try_from(q) else { return };
+        let mut off = [0.0; D];
+        self.search_one::<D, F>((0, self.order.len()), 0, q, skip, best, (&mut off, 0.0));
+    }
+
+    /// [`Self::search`] for the one nearest point, in `D` dimensions.
+    fn search_one<const D: usize, F: Fn(u32) -> bool>(
+        &self,
+        (lo, hi): (usize, usize),
+        depth: usize,
+        q: &[f64; D],
+        skip: &F,
+        best: &mut (f64, u32),
+        (off, rd): (&mut [f64; D], f64),
+    ) {
+        if hi - lo <= LEAF {
+            for pos in lo..hi {
+                self.visit_one(pos, q, skip, best);
+            }
+            return;
+        }
+        let mid = lo + (hi - lo) / 2;
+        self.visit_one(mid, q, skip, best);
+        let axis = depth % D;
+        let diff = q[axis] - self.pts[mid * D + axis];
+        let (near, far) = if diff < 0.0 { ((lo, mid), (mid + 1, hi)) } else { ((mid + 1, hi), (lo, mid)) };
+        self.search_one::<D, F>(near, depth + 1, q, skip, best, (&mut *off, rd));
+        let old = off[axis];
+        let far_rd = rd - old * old + diff * diff;
+        // As in `search`: shrunk so that rounding never prunes a tie.
+        if best.1 == u32::MAX || far_rd * (1.0 - 1e-9) <= best.0 {
+            off[axis] = diff;
+            self.search_one::<D, F>(far, depth + 1, q, skip, best, (&mut *off, far_rd));
+            off[axis] = old;
+        }
+    }
+
+    #[inline(always)]
+    fn visit_one<const D: usize, F: Fn(u32) -> bool>(&self, pos: usize, q: &[f64; D], skip: &F, best: &mut (f64, u32)) {
+        let Ok(p) = <&[f64; D]>::try_from(&self.pts[pos * D..(pos + 1) * D]) else { return };
+        let id = self.offset + self.order[pos];
+        if skip(id) {
+            return;
+        }
+        // The same sum, in the same order, as `dist2`: the same bits.
+        let mut d = 0.0;
+        for i in 0..D {
+            d += (p[i] - q[i]) * (p[i] - q[i]);
+        }
+        if best.1 == u32::MAX || d < best.0 || (d == best.0 && id < best.1) {
+            *best = (d, id);
         }
     }
 
@@ -277,26 +354,28 @@ mod tests {
     /// the scanned tail alike.
     #[test]
     fn growing_index_matches_linear_scan_as_points_arrive() {
-        let dim = 7;
-        let mut rnd = grid_draws(4242);
-        let pts: Vec<Vec<f64>> = (0..1000).map(|_| (0..dim).map(|_| rnd(3) as f64).collect()).collect();
-        let mut index = GrowingIndex::default();
-        let mut largest = 0;
-        for n in 1..=pts.len() {
-            for k in 0..3 {
-                let q: Vec<f64> = (0..dim).map(|_| rnd(3) as f64).collect();
-                let skip = |i: u32| k == 2 && i % 7 == 5;
-                let got = index.nearest(dim, n, |i| &pts[i], &q, skip);
-                let want = (0..n)
-                    .filter(|&i| !skip(i as u32))
-                    .min_by(|&a, &b| dist2(&pts[a], &q).total_cmp(&dist2(&pts[b], &q)).then(a.cmp(&b)));
-                assert_eq!(Some(got), want, "n {n}");
+        // An arm's six and seven joints take the fixed-size search; three the generic one.
+        for dim in [3, 6, 7] {
+            let mut rnd = grid_draws(4242 + dim as u64);
+            let pts: Vec<Vec<f64>> = (0..1000).map(|_| (0..dim).map(|_| rnd(3) as f64).collect()).collect();
+            let mut index = GrowingIndex::default();
+            let mut largest = 0;
+            for n in 1..=pts.len() {
+                for k in 0..3 {
+                    let q: Vec<f64> = (0..dim).map(|_| rnd(3) as f64).collect();
+                    let skip = |i: u32| k == 2 && i % 7 == 5;
+                    let got = index.nearest(dim, n, |i| &pts[i], &q, skip);
+                    let want = (0..n)
+                        .filter(|&i| !skip(i as u32))
+                        .min_by(|&a, &b| dist2(&pts[a], &q).total_cmp(&dist2(&pts[b], &q)).then(a.cmp(&b)));
+                    assert_eq!(Some(got), want, "dim {dim} n {n}");
+                }
+                largest = largest.max(index.trees.first().map_or(0, KdTree::len));
             }
-            largest = largest.max(index.trees.first().map_or(0, KdTree::len));
+            assert_eq!(index.held, 992, "every whole run is in a tree");
+            assert_eq!(largest, 512, "runs merged into one tree of 16");
+            let sizes: Vec<usize> = index.trees.iter().map(KdTree::len).collect();
+            assert_eq!(sizes, [512, 256, 128, 64, 32], "992 = 31 runs, one tree per bit");
         }
-        assert_eq!(index.held, 992, "every whole run is in a tree");
-        assert_eq!(largest, 512, "runs merged into one tree of 16");
-        let sizes: Vec<usize> = index.trees.iter().map(KdTree::len).collect();
-        assert_eq!(sizes, [512, 256, 128, 64, 32], "992 = 31 runs, one tree per bit");
     }
 }
