@@ -411,6 +411,17 @@ impl Chain {
         }
     }
 
+    /// [`Chain::fk_into`] for links `0..=last` only (a link's parent comes before it):
+    /// what a question about two bodies needs, not the links beyond them.
+    pub fn fk_upto(&self, q: &[f64], last: usize, out: &mut [Isometry3<f64>]) {
+        for (i, l) in self.links.iter().enumerate().take(last + 1) {
+            out[i] = match l.parent {
+                None => Isometry3::identity(),
+                Some(p) => Self::link_pose(&out[p], l, Self::joint_value(l.source, q)),
+            };
+        }
+    }
+
     /// The flange pose in the base frame, walking only the path.
     pub fn fk_flange(&self, q: &[f64]) -> Isometry3<f64> {
         let mut t = Isometry3::identity();

@@ -236,7 +236,7 @@ pub(crate) struct Measure {
 pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: &mut Measure) -> Option<f64> {
     let Measure { q, links, posed } = s;
     links.resize(m.chain.links.len(), Isometry3::identity());
-    m.chain.fk_into(q, links);
+    m.chain.fk_upto(q, m.bodies[a].link.max(m.bodies[b].link), links);
     for (k, body) in [a, b].into_iter().enumerate() {
         let link = to_ppose(&links[m.bodies[body].link]);
         posed[k].clear();
