@@ -7,7 +7,8 @@
 //! so a can standing on the table does not touch it. A moving primitive (box,
 //! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
 //! tested with one `intersection_test` (a box against a box by the fifteen-axis
-//! separating test, `boxes_intersect`); a mesh hull is tested with GJK, then
+//! separating test, `boxes_intersect`; a ball against a fixed box by its centre's
+//! distance, `ball_meets_box`); a mesh hull is tested with GJK, then
 //! `contact` measures the depth of pairs that intersect, unless GJK's last simplex or a
 //! box shrunk by twice the tolerance already proves them that deep (no measure).
 
@@ -23,7 +24,7 @@ use parry3d_f64::shape::{Cuboid, Shape};
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
-use super::shapes::{aabb_of, boxes_intersect, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
+use super::shapes::{aabb_of, ball_meets_box, boxes_intersect, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::RobotId;
@@ -323,8 +324,14 @@ fn check_posed(
                 }
                 pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
+                    let placed = &m.shapes[si].placed;
+                    let ball = placed.eroded_ball.filter(|_| m.fast_check && e.obb.exact);
                     s.shape_aabb[si].intersects(&e.aabb)
-                        && collide_moving(&s.shape_pose[si], &m.shapes[si].placed, &e.pose, &*e.shape.0, &e.obb)
+                        && ball
+                            .and_then(|r| {
+                                ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents)
+                            })
+                            .unwrap_or_else(|| collide_moving(&s.shape_pose[si], placed, &e.pose, &*e.shape.0, &e.obb))
                 });
                 if hit {
                     match e.owner {

@@ -194,3 +194,47 @@ proptest::proptest! {
         proptest::prop_assert_eq!(&p, &b);
     }
 }
+
+/// A ball against a turned box, the centre anywhere near it in half the draws and in the
+/// others at the ball's radius from the box give or take 0 to 10 nm (where parry's own
+/// arithmetic must decide): wherever `ball_meets_box` decides, parry's intersection test
+/// agrees, and it decides every ball more than 10 nm from touching. (A sign slip, a full
+/// extent taken for a half one or a margin of 0 fails it.)
+#[test]
+fn a_ball_against_a_box_decides_as_parry_does_or_leaves_it_to_parry() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let (mut decided, mut left) = (0, 0);
+    for i in 0..20_000 {
+        let half = PVec::new(rng.random(), rng.random(), rng.random()) * 0.2 + PVec::splat(0.001);
+        let axis = PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        let shift = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 2.0;
+        let pose = PPose::from_parts(shift, Rotation::from_scaled_axis(axis * 6.0));
+        let local = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.8;
+        let outside = (local.abs() - half).max(PVec::ZERO).length();
+        let r = if i % 2 == 0 || outside == 0.0 {
+            rng.random::<f64>() * 0.1 + 1e-4
+        } else {
+            outside + (rng.random::<f64>() - 0.5) * 2e-8
+        };
+        let centre = pose.translation + pose.rotation * local;
+        let parry = query::intersection_test(
+            &PPose::from_translation(centre),
+            &parry3d_f64::shape::Ball::new(r),
+            &pose,
+            &Cuboid::new(half),
+        )
+        .expect("ball and box")
+        .intersecting;
+        match ball_meets_box(centre, r, &pose, half) {
+            Some(hit) => {
+                assert_eq!(hit, parry, "{local:?} {half:?} {r}");
+                decided += 1;
+            }
+            None => {
+                assert!((outside - r).abs() < 1e-8, "left to parry {} from touching", outside - r);
+                left += 1;
+            }
+        }
+    }
+    assert!(decided > 10_000 && left > 100, "{decided} decided, {left} left to parry");
+}

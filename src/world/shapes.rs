@@ -42,6 +42,8 @@ pub(crate) struct Placed {
     /// How its world box is computed, found once: asking the shape its type at every
     /// check (a dynamic downcast per question) was a few per cent of a sphere robot's.
     pub boxed: Boxed,
+    /// The eroded shape's radius when it is a ball (a spherized link's).
+    pub eroded_ball: Option<f64>,
 }
 
 #[derive(Clone, Copy)]
@@ -64,7 +66,8 @@ impl Placed {
             (None, Some(b)) => Boxed::Ball(b.radius),
             (None, None) => Boxed::Other,
         };
-        Placed { shape, pose, eroded, obb, eroded_obb, boxed }
+        let eroded_ball = eroded.as_ref().and_then(|e| e.as_ball()).map(|b| b.radius);
+        Placed { shape, pose, eroded, obb, eroded_obb, boxed, eroded_ball }
     }
 }
 
@@ -128,6 +131,27 @@ impl Obb {
     pub fn gap(&self, p1: &PPose, other: &Obb, p2: &PPose) -> f64 {
         let pos12 = (*p1 * self.centre).inv_mul(&(*p2 * other.centre));
         boxes_face_gap(self.cuboid.half_extents, other.cuboid.half_extents, &pos12)
+    }
+}
+
+/// Within this much (metres) of a ball's radius, a ball against a box is left to parry.
+const BALL_MARGIN: f64 = 1e-9;
+
+/// A moving ball (centre `c`, eroded radius `r`) against a fixed box (half extents `he`
+/// at `p2`), decided by the distance from the centre to the box: what parry's
+/// intersection test decides, but without its dispatch and the boxes' pre-test (most of
+/// a spherized arm's narrow phase). `None` where the distance is within [`BALL_MARGIN`]
+/// of the radius: there rounding could part the two, and parry's own test decides.
+#[inline]
+pub(crate) fn ball_meets_box(c: PVec, r: f64, p2: &PPose, he: PVec) -> Option<bool> {
+    let local = p2.rotation.inverse() * (c - p2.translation);
+    let d2 = (local.abs() - he).max(PVec::ZERO).length_squared();
+    if d2 > (r + BALL_MARGIN) * (r + BALL_MARGIN) {
+        Some(false)
+    } else if r > BALL_MARGIN && d2 < (r - BALL_MARGIN) * (r - BALL_MARGIN) {
+        Some(true)
+    } else {
+        None
     }
 }
 
