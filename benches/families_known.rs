@@ -106,6 +106,8 @@ fn main() {
         std::process::exit(1);
     }
     let repeat: usize = std::env::var("FAMILY_REPEAT").ok().and_then(|v| v.parse().ok()).unwrap_or(1).max(1);
+    // Over every row: (solved, known path, removals, replanned).
+    let mut all = (0, 0, 0, 0);
     println!("| arm | family | solved / known path | removals | replanned | median | p95 | wall median | wall p95 |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for arm in ARMS.into_iter().filter(|a| chosen("FAMILY_ARMS", &format!("{a:?}"))) {
@@ -125,6 +127,7 @@ fn main() {
             let solved = outs.iter().filter(|o| o.solved).count();
             let removals: usize = outs.iter().map(|o| o.removals).sum();
             let replanned = outs.iter().filter(|o| o.replanned).count();
+            all = (all.0 + solved, all.1 + paths.len(), all.2 + removals, all.3 + replanned);
             let sorted = |f: fn(&Outcome) -> f64| {
                 let mut v: Vec<f64> = outs.iter().map(f).collect();
                 v.sort_by(f64::total_cmp);
@@ -141,4 +144,8 @@ fn main() {
             );
         }
     }
+    println!(
+        "\nIn all: {} of {} solved, {} removals, {} planned again at a finer resolution.",
+        all.0, all.1, all.2, all.3
+    );
 }
