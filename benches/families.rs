@@ -11,18 +11,13 @@
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use declutter::diag::{FsLoader, SourceMap};
-use declutter::world::{self, WorldOptions};
 
 #[path = "../tests/common/families.rs"]
 mod families;
 
-/// Load to verified schedule; the number of actions, or `None` if verification failed.
+/// Load to verified schedule; the number of actions, or `None` if it went wrong.
 fn end_to_end(path: &Path) -> Option<usize> {
-    let mut sources = SourceMap::new();
-    let scn = declutter::resolve::resolve(path, &FsLoader, &mut sources).expect("resolves");
-    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).expect("builds");
-    declutter::driver::plan_verified(&w, &|_| {}).map(|p| p.schedule.actions.len()).ok()
+    families::compile(path).map(|p| p.schedule.actions.len()).ok()
 }
 
 fn bench_families(c: &mut Criterion) {

@@ -19,9 +19,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use declutter::diag::{FsLoader, SourceMap};
 use declutter::schedule::Status;
-use declutter::world::{self, WorldOptions};
 
 #[path = "support/cpu_time.rs"]
 mod cpu_time;
@@ -29,7 +27,7 @@ mod cpu_time;
 mod families;
 
 use families::known::{Known, KNOWN};
-use families::{probe, problem, shared_robots, ARMS};
+use families::{chosen, probe, problem, shared_robots, ARMS};
 
 /// What one problem came to.
 struct Outcome {
@@ -44,19 +42,10 @@ struct Outcome {
 /// Load to verified schedule, as `compile` does; the schedule must be solved and verified.
 /// (solved, removals, replanned).
 fn end_to_end(path: &Path) -> (bool, usize, bool) {
-    let mut sources = SourceMap::new();
-    let Ok(scn) = declutter::resolve::resolve(path, &FsLoader, &mut sources) else {
-        eprintln!("{}: does not resolve", path.display());
-        return (false, 0, false);
-    };
-    let Ok(w) = world::build(&scn, &WorldOptions::default(), &FsLoader) else {
-        eprintln!("{}: does not build", path.display());
-        return (false, 0, false);
-    };
-    match declutter::driver::plan_verified(&w, &|_| {}) {
+    match families::compile(path) {
         Ok(p) => (p.schedule.status == Status::Solved, p.schedule.removed.len(), p.refinements > 0),
-        Err(v) => {
-            eprintln!("{}: the schedule failed verification: {v:?}", path.display());
+        Err(e) => {
+            eprintln!("{}: {e}", path.display());
             (false, 0, true)
         }
     }
@@ -85,12 +74,6 @@ fn ms(xs: &[f64], p: f64) -> f64 {
         return f64::NAN;
     }
     1000.0 * xs[((p * xs.len() as f64).ceil() as usize).clamp(1, xs.len()) - 1]
-}
-
-/// Whether the comma-separated list in the environment variable `var` names `name`
-/// (everything is chosen when it is unset).
-fn chosen(var: &str, name: &str) -> bool {
-    std::env::var(var).map_or(true, |v| v.split(',').any(|x| x == name))
 }
 
 fn main() {

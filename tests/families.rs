@@ -17,7 +17,7 @@ use declutter::resolve::{RobotId, Target};
 use declutter::schedule::Status;
 use declutter::world::{self, World, WorldOptions};
 use families::known::{ITERATIONS, KNOWN};
-use families::{probe, problem, shared_robots, Arm, ARMS, FAMILIES};
+use families::{chosen, probe, problem, shared_robots, Arm, ARMS, FAMILIES};
 
 /// A problem's world and its target configuration.
 fn load(path: &Path) -> (World, Vec<f64>) {
@@ -363,12 +363,6 @@ fn known_paths_are_found_again_with_their_seeds() {
             assert!(path.windows(2).all(|s| rrt::motion_free(&w, r, &s[0], &s[1])), "{arm:?} {} {i}", k.family);
         }
     }
-}
-
-/// Whether the comma-separated list in the environment variable `var` names `name`
-/// (everything is chosen when it is unset).
-fn chosen(var: &str, name: &str) -> bool {
-    std::env::var(var).map_or(true, |v| v.split(',').any(|x| x == name))
 }
 
 /// Establishes which problems have a path, once: RRT-Connect with [`ITERATIONS`]

@@ -403,7 +403,13 @@ impl Chain {
     /// [`Chain::fk_into`] with the root link at `root` (the robot's base in the world):
     /// every link's world pose without a second product per link.
     pub fn fk_from(&self, root: &Isometry3<f64>, q: &[f64], out: &mut [Isometry3<f64>]) {
-        for (i, l) in self.links.iter().enumerate() {
+        self.fk_prefix(root, q, self.links.len(), out);
+    }
+
+    /// The first `n` links' poses (a link's parent comes before it), the root at `root`.
+    #[inline]
+    fn fk_prefix(&self, root: &Isometry3<f64>, q: &[f64], n: usize, out: &mut [Isometry3<f64>]) {
+        for (i, l) in self.links.iter().enumerate().take(n) {
             out[i] = match l.parent {
                 None => *root,
                 Some(p) => Self::link_pose(&out[p], l, Self::joint_value(l.source, q)),
@@ -414,12 +420,7 @@ impl Chain {
     /// [`Chain::fk_into`] for links `0..=last` only (a link's parent comes before it):
     /// what a question about two bodies needs, not the links beyond them.
     pub fn fk_upto(&self, q: &[f64], last: usize, out: &mut [Isometry3<f64>]) {
-        for (i, l) in self.links.iter().enumerate().take(last + 1) {
-            out[i] = match l.parent {
-                None => Isometry3::identity(),
-                Some(p) => Self::link_pose(&out[p], l, Self::joint_value(l.source, q)),
-            };
-        }
+        self.fk_prefix(&Isometry3::identity(), q, last + 1, out);
     }
 
     /// The flange pose in the base frame, walking only the path.

@@ -52,6 +52,21 @@ pub fn shared_robots() -> Option<PathBuf> {
     }
 }
 
+/// Whether the comma-separated list in the environment variable `var` names `name`
+/// (everything is chosen when it is unset).
+pub fn chosen(var: &str, name: &str) -> bool {
+    std::env::var(var).map_or(true, |v| v.split(',').any(|x| x == name))
+}
+
+/// The scenario at `path` from the file to a verified schedule, as `declutter compile`
+/// does but print; what went wrong otherwise.
+pub fn compile(path: &Path) -> Result<declutter::driver::Planned, String> {
+    let mut sources = SourceMap::new();
+    let scn = declutter::resolve::resolve(path, &FsLoader, &mut sources).map_err(|e| format!("resolve: {e:?}"))?;
+    let w = world::build(&scn, &WorldOptions::default(), &FsLoader).map_err(|e| format!("world: {e:?}"))?;
+    declutter::driver::plan_verified(&w, &|_| {}).map_err(|v| format!("the schedule failed verification: {v:?}"))
+}
+
 fn load(text: &str, dir: &Path, name: &str) -> Option<World> {
     let path = dir.join(format!("{name}.dcl"));
     std::fs::write(&path, text).ok()?;

@@ -212,16 +212,6 @@ impl<S: Space> RobotPlanner<S> {
             {
                 break;
             }
-            // From the third round on, while no path touching nothing is known (and a
-            // first path is not all that was asked for), the free-space trees grow beside
-            // the roadmap, before the round's search: when they get through, the round's
-            // graph (the largest yet) is not searched.
-            let wanted = match &best {
-                None => true,
-                Some((b, _)) => {
-                    !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
-                }
-            };
             // The round's extension attempts for the free-space trees (see `connect`).
             let mut grow_free = |free: &mut Option<free::FreeSearch>, none_yet: bool, checks: &mut u64| {
                 if !free_ready {
@@ -233,6 +223,16 @@ impl<S: Space> RobotPlanner<S> {
                 let drawn = samples_at(r, first, max) - if r > 1 { samples_at(r - 1, first, max) } else { 0 };
                 let per = if none_yet { connect::PER_SAMPLE_NONE } else { connect::PER_SAMPLE_FEWER };
                 f.grow(self, &goals, per * drawn, t0, checks)
+            };
+            // From the third round on, while no path touching nothing is known (and a
+            // first path is not all that was asked for), the free-space trees grow beside
+            // the roadmap, before the round's search: when they get through, the round's
+            // graph (the largest yet) is not searched.
+            let wanted = match &best {
+                None => true,
+                Some((b, _)) => {
+                    !b.set.is_empty() && !self.settings.first_path && objective == Objective::FewestRemovals
+                }
             };
             if wanted && r > SEARCH_FIRST_ROUNDS {
                 if let Some(found) = grow_free(&mut free, best.is_none(), checks) {
