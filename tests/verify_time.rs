@@ -403,6 +403,33 @@ fn self_collision_is_checked_over_every_pair_the_sampled_pruning_dropped() {
     assert_eq!(all, vec![("l1", "l3")]);
 }
 
+/// An arm folded onto itself (link 3 crossing link 1) turning as a whole about joint 1:
+/// the pair's distance never changes, so no bound on it ever runs out, and only the
+/// check can see the contact: at the first instant, and in the mode that checks every
+/// step at that same instant.
+#[test]
+fn a_pair_that_does_not_move_apart_is_checked_not_taken_as_proved_by_the_others() {
+    let scn = facing_at(5.0);
+    let w = world(&scn);
+    // Joint 2 at 2.9 rad folds link 2 back over link 1; joint 3 at 1.815 rad points link 3
+    // straight down across it (through y = 0 at x = 0.109).
+    let folded = |q1: f64| TimedPoint { t: 0.0, q: vec![q1, 2.9, 1.815], qd: vec![0.0; 3] };
+    let turn = Track { robot: P1, points: vec![folded(0.0), TimedPoint { t: 1.0, ..folded(1.0) }] };
+    let tl = Timeline {
+        makespan: 1.0,
+        tracks: vec![turn, track(P2, &[(0.0, 0.0), (1.0, 0.0)])],
+        events: vec![],
+        actions: vec![],
+    };
+    for every_step in [false, true] {
+        let (_, v) = replay(&w, &tl, &ReplayOptions { every_step, ..options(3.0, 10.0) });
+        let text: Vec<String> = v.iter().map(ToString::to_string).collect();
+        assert_eq!(v.len(), 1, "{text:#?}");
+        assert_eq!(v[0].location, declutter::verify::Location::At { t: 0.0 }, "{text:#?}");
+        assert!(text[0].contains("robot `p1` body `link1`") && text[0].contains("`link3`"), "{text:#?}");
+    }
+}
+
 /// Points fixed to each shape of the robot: its bounding sphere's centre and six points on
 /// that sphere, world frame.
 fn shape_points(w: &World, r: RobotId, q: &[f64]) -> Vec<parry3d_f64::math::Vector> {

@@ -55,6 +55,15 @@ enum Movers {
     Robots(usize, usize),
 }
 
+impl Movers {
+    fn robots(&self) -> [usize; 2] {
+        match *self {
+            Movers::Robot(r) | Movers::Apart(r, _) | Movers::Weighted(r, _) => [r, r],
+            Movers::Robots(a, b) => [a, b],
+        }
+    }
+}
+
 /// Joint `j`'s rate weighed by how far it can move `body`'s own points over how far it
 /// can move any (the reach its rate was taken with): the body's points then move no
 /// faster than the weighed rates' sum. A joint whose rate was taken with no reach keeps
@@ -84,6 +93,8 @@ pub(super) struct Memory {
     measured: Vec<Option<(f64, f64)>>,
     /// Per pair: the simplex its last GJK ended with (see `distance_at_least_from`).
     hints: Vec<GjkStart>,
+    /// Per movers: whether any pair has them.
+    populated: Vec<bool>,
     /// Per movers this instant: how fast they can close a pair in, and their odometer.
     speed: Vec<f64>,
     odometer: Vec<f64>,
@@ -214,15 +225,23 @@ impl Cell<'_> {
     /// that rate from the start. Every pair the checks look at is at least its boxes' gap
     /// apart; that gap, less the clearance the pair must keep, shrinks no faster than the
     /// pair moves apart. 0 when a pair is already too close; infinite when nothing moves.
+    ///
+    /// Also whether the bounds prove the instant itself clear: every pair whose movers
+    /// move has a lower bound above what it must keep (a free time above 0 says so), and
+    /// every pair whose movers stand still belongs to robots `still` (which the check
+    /// skips: see [`Cell::check`]). A pair whose movers stand still is never bounded, so
+    /// an instant with one of a robot not `still` is left to the check.
+    #[allow(clippy::too_many_arguments)]
     pub fn free_time(
         &self,
         at: &[RobotAt],
         present: &ObjectSet,
+        still: &[bool],
         rates: &[Vec<f64>],
         odometers: &[Vec<f64>],
         s: &Scratch,
         memory: &mut Memory,
-    ) -> f64 {
+    ) -> (f64, bool) {
         let set: PairSet =
             (at.iter().map(|ra| (ra.held.map(|h| (h.object, h.posture)), ra.exempt)).collect(), present.len());
         if memory.set.as_ref() != Some(&set) {
@@ -246,15 +265,20 @@ impl Cell<'_> {
             memory.speed.push(of(rates));
             memory.odometer.push(of(odometers));
         }
-        if memory.fresh || memory.every_pair {
+        let standing_bounded = memory.movers.iter().enumerate().all(|(g, m)| {
+            memory.speed[g] > 0.0 || !memory.populated[g] || m.robots().iter().all(|&r| still.get(r) == Some(&true))
+        });
+        let free = if memory.fresh || memory.every_pair {
             let free = self.free_time_all(s, memory);
             if memory.fresh && !memory.every_pair {
                 memory.rebuild_queues();
             }
             memory.fresh = false;
-            return free;
-        }
-        self.free_time_queued(s, memory)
+            free
+        } else {
+            self.free_time_queued(s, memory)
+        };
+        (free, standing_bounded && free > 0.0)
     }
 
     /// The shapes of one side of a pair.
@@ -559,6 +583,11 @@ impl Cell<'_> {
                     }
                 }
             }
+        }
+        memory.populated.clear();
+        memory.populated.resize(memory.movers.len(), false);
+        for p in &memory.pairs {
+            memory.populated[p.movers] = true;
         }
         memory.measured.clear();
         memory.measured.resize(memory.pairs.len(), None);

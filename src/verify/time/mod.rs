@@ -125,7 +125,8 @@ pub struct ReplayOptions {
     pub clearance: f64,
     pub limits: RateLimits,
     /// Check at every step of the bound, never skipping ahead where an instant proves
-    /// that nothing can come too close before a later one: slower, and what the skipping
+    /// that nothing can come too close before a later one, and run the contact check at
+    /// every instant even where the bounds prove it clear: slower, and what the skipping
     /// is tested against (it finds the same, at the same instants).
     pub every_step: bool,
     /// Take every pair's bound at every instant when skipping ahead, rather than only the
