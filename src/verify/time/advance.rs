@@ -13,11 +13,13 @@ use std::collections::BinaryHeap;
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
-use super::scene::{Cell, RobotAt, RobotGeo, Scratch, Side};
+mod pairs;
+
+use super::scene::{Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{
     aabb_gap, distance_at_least, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet,
-    StaticOwner, LOWER_BOUND_TOLERANCE,
+    LOWER_BOUND_TOLERANCE,
 };
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
@@ -64,17 +66,6 @@ impl Movers {
     }
 }
 
-/// Joint `j`'s rate weighed by how far it can move `body`'s own points over how far it
-/// can move any (the reach its rate was taken with): the body's points then move no
-/// faster than the weighed rates' sum. A joint whose rate was taken with no reach keeps
-/// its rate as it is.
-fn own_weight(g: &RobotGeo, reach: Option<&Vec<f64>>, body: usize, j: usize) -> f64 {
-    match reach.and_then(|r| r.get(j)) {
-        Some(&r) if r > 0.0 => g.body_reach[body][j] / r,
-        _ => 1.0,
-    }
-}
-
 /// One pair: its sides, the distance it must keep, and the index of its movers.
 struct Pair {
     a: Thing,
@@ -95,9 +86,22 @@ pub(super) struct Memory {
     hints: Vec<GjkStart>,
     /// Per movers: whether any pair has them.
     populated: Vec<bool>,
-    /// Per movers this instant: how fast they can close a pair in, and their odometer.
+    /// The stretch's rates (see [`Cell::free_time`]): the speeds below hold while these do.
+    rates: Vec<Vec<f64>>,
+    /// Per movers on this stretch: how fast they can close a pair in.
     speed: Vec<f64>,
+    /// The robots of movers that have pairs and stand still on this stretch.
+    standing: Vec<usize>,
+    /// When the stretch (or the pairs) began, and each movers' odometer then: on one
+    /// stretch an odometer grows at its movers' speed, so an expiry is also a time.
+    t0: f64,
+    odo0: Vec<f64>,
+    /// This instant's joint odometers, and per movers their odometer, taken when first
+    /// asked for at this instant (`odo_at` holds the instant's number).
+    joint_odo: Vec<Vec<f64>>,
     odometer: Vec<f64>,
+    odo_at: Vec<u64>,
+    instant: u64,
     /// Per pair this instant: a lower bound on its free time.
     bound: Vec<f64>,
     /// Per robot: its posed shapes in units. A body of balls only (a spherized link) is
@@ -105,16 +109,18 @@ pub(super) struct Memory {
     /// per ball (measuring a ball is cheaper than queueing it). Any other shape is a unit
     /// of its own: measuring it is dear, and its own bound spares it more often.
     units: Vec<Vec<Unit>>,
-    /// Per movers: their pairs' *expiries* (slack plus odometer at the measure: the
-    /// odometer reading at which the bound reaches 0), least first. An entry is current
-    /// while its stamp is its pair's; a measure stamps the pair anew and queues it again.
-    queues: Vec<BinaryHeap<Reverse<Entry>>>,
+    /// Every pair whose movers move, by the instant its bound runs out on this stretch (its
+    /// *expiry*, slack plus odometer at the measure, reached at the movers' speed), least
+    /// first: one queue for all movers, since on one stretch every odometer grows at a
+    /// constant rate. An entry is current while its stamp is its pair's; a measure stamps
+    /// the pair anew and queues it again; a new stretch queues every pair afresh.
+    queue: BinaryHeap<Reverse<Entry>>,
     stamp: Vec<u32>,
-    /// Entries taken off the queues this instant, to be put back.
-    taken: Vec<(usize, Entry)>,
+    /// Entries taken off the queue this instant, to be put back.
+    taken: Vec<Entry>,
     /// The pairs changed since the last instant: the next one measures them all.
     fresh: bool,
-    /// Take every pair's bound at every instant, not only the queues' fronts; every shape
+    /// Take every pair's bound at every instant, not only the queue's front; every shape
     /// on its own, not a body of balls as one unit; and GJK without the turned boxes'
     /// gap first, from a cold start: what those shortcuts are tested against.
     pub every_pair: bool,
@@ -123,10 +129,11 @@ pub(super) struct Memory {
     pub reach: Vec<Vec<f64>>,
 }
 
-/// A queued pair: its expiry (ordered as `f64::total_cmp` orders), index and stamp.
+/// A queued pair: the time its bound runs out, a little early (ordered as
+/// `f64::total_cmp` orders), index and stamp.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry {
-    expiry: OrdF64,
+    expires: OrdF64,
     k: u32,
     stamp: u32,
 }
@@ -153,26 +160,74 @@ impl Ord for OrdF64 {
 /// within it of a threshold are taken and decided by the bound itself.
 const EXPIRY_SLOP: f64 = 1e-9;
 
+/// What movers `m` add up of per-robot, per-joint values `v` (rates or odometers).
+fn movers_sum(m: &Movers, v: &[Vec<f64>]) -> f64 {
+    let total = |r: usize| v.get(r).map_or(0.0, |v| v.iter().sum::<f64>());
+    match m {
+        Movers::Robot(r) => total(*r),
+        Movers::Apart(r, mask) => {
+            let v = v.get(*r).map_or(&[][..], Vec::as_slice);
+            mask.iter().zip(v).filter(|(m, _)| **m).map(|(_, v)| v).sum::<f64>()
+        }
+        Movers::Weighted(r, w) => v.get(*r).map_or(0.0, |v| v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>()),
+        Movers::Robots(a, b) => total(*a) + total(*b),
+    }
+}
+
 impl Memory {
-    /// Pair `k` measured: stamp it and queue its new expiry.
+    /// Movers `g`'s odometer at this instant.
+    fn odometer(&mut self, g: usize) -> f64 {
+        if self.odo_at[g] != self.instant {
+            self.odo_at[g] = self.instant;
+            self.odometer[g] = movers_sum(&self.movers[g], &self.joint_odo);
+        }
+        self.odometer[g]
+    }
+
+    /// A new stretch (or new pairs): each movers' speed, and the odometers the queue's
+    /// times count from.
+    fn start_stretch(&mut self, t: f64, rates: &[Vec<f64>]) {
+        self.rates.clear();
+        self.rates.extend(rates.iter().cloned());
+        self.speed.clear();
+        self.speed.extend(self.movers.iter().map(|m| movers_sum(m, rates)));
+        self.t0 = t;
+        self.odo0.clear();
+        self.odo0.extend(self.movers.iter().map(|m| movers_sum(m, &self.joint_odo)));
+        self.standing.clear();
+        for (g, m) in self.movers.iter().enumerate() {
+            if self.populated[g] && self.speed[g] <= 0.0 {
+                self.standing.extend(m.robots());
+            }
+        }
+        self.standing.sort_unstable();
+        self.standing.dedup();
+    }
+
+    /// Pair `k` measured: stamp it and queue it by when its bound runs out (a pair whose
+    /// movers stand still is not queued: its bound is infinite while they do).
     fn requeue(&mut self, k: usize) {
         self.stamp[k] = self.stamp[k].wrapping_add(1);
+        let g = self.pairs[k].movers;
+        if self.speed[g] <= 0.0 || self.speed[g].is_nan() {
+            return;
+        }
         // A pair not measured yet (its movers stood still so far) is taken as soon as they
         // move, to take its boxes' gap as the full pass does. A NaN bound is never below
-        // anything (the full pass never measures it): last.
-        let expiry = match self.measured[k] {
+        // anything (the full pass never measures it): last. Otherwise the instant the
+        // odometer reaches the expiry, made earlier by twice the slop so that rounding
+        // never leaves a pair in the queue that the full pass would take.
+        let expires = match self.measured[k] {
             None => f64::NEG_INFINITY,
             Some((slack, at)) if (slack + at).is_nan() => f64::INFINITY,
-            Some((slack, at)) => slack + at,
+            Some((slack, at)) => self.t0 + (slack + at - 2.0 * EXPIRY_SLOP - self.odo0[g]) / self.speed[g],
         };
-        let entry = Entry { expiry: OrdF64(expiry), k: k as u32, stamp: self.stamp[k] };
-        self.queues[self.pairs[k].movers].push(Reverse(entry));
+        self.queue.push(Reverse(Entry { expires: OrdF64(expires), k: k as u32, stamp: self.stamp[k] }));
     }
 
     /// Every pair queued afresh from what it measured (stale entries dropped).
-    fn rebuild_queues(&mut self) {
-        self.queues.clear();
-        self.queues.resize_with(self.movers.len(), BinaryHeap::new);
+    fn rebuild_queue(&mut self) {
+        self.queue.clear();
         self.stamp.clear();
         self.stamp.resize(self.pairs.len(), 0);
         for k in 0..self.pairs.len() {
@@ -184,33 +239,40 @@ impl Memory {
     /// this instant, with its boxes' gap.
     fn put_back(&mut self) {
         let taken = std::mem::take(&mut self.taken);
-        for &(g, e) in &taken {
+        for &e in &taken {
             let k = e.k as usize;
             if self.stamp[k] != e.stamp {
                 continue;
             }
-            if e.expiry.0 == f64::NEG_INFINITY && self.measured[k].is_some() {
+            if e.expires.0 == f64::NEG_INFINITY && self.measured[k].is_some() {
                 self.requeue(k);
             } else {
-                self.queues[g].push(Reverse(e));
+                self.queue.push(Reverse(e));
             }
         }
         self.taken = taken;
     }
 
-    /// Takes off `g`'s queue, into `taken`, every current entry whose expiry is below
-    /// `limit` (odometer reading), dropping stale ones on the way.
-    fn take_below(&mut self, g: usize, limit: f64) {
-        while let Some(&Reverse(e)) = self.queues[g].peek() {
-            if self.stamp[e.k as usize] != e.stamp {
-                self.queues[g].pop();
-                continue;
+    /// The current entry at the queue's front (stale ones dropped on the way).
+    fn front(&mut self) -> Option<Entry> {
+        while let Some(&Reverse(e)) = self.queue.peek() {
+            if self.stamp[e.k as usize] == e.stamp {
+                return Some(e);
             }
-            if e.expiry.0.partial_cmp(&limit) != Some(std::cmp::Ordering::Less) {
+            self.queue.pop();
+        }
+        None
+    }
+
+    /// Takes off the queue, into `taken`, every current entry that runs out before `limit`
+    /// (a time).
+    fn take_below(&mut self, limit: f64) {
+        while let Some(e) = self.front() {
+            if e.expires.0.partial_cmp(&limit) != Some(std::cmp::Ordering::Less) {
                 return;
             }
-            self.queues[g].pop();
-            self.taken.push((g, e));
+            self.queue.pop();
+            self.taken.push(e);
         }
     }
 }
@@ -237,46 +299,37 @@ impl Cell<'_> {
         at: &[RobotAt],
         present: &ObjectSet,
         still: &[bool],
-        rates: &[Vec<f64>],
-        odometers: &[Vec<f64>],
+        t: f64,
+        (rates, odometers): (&[Vec<f64>], &[Vec<f64>]),
         s: &Scratch,
         memory: &mut Memory,
     ) -> (f64, bool) {
         let set: PairSet =
             (at.iter().map(|ra| (ra.held.map(|h| (h.object, h.posture)), ra.exempt)).collect(), present.len());
-        if memory.set.as_ref() != Some(&set) {
+        let listed = memory.set.as_ref() != Some(&set);
+        if listed {
             memory.set = Some(set);
             self.list_pairs(at, present, s, memory);
         }
-        let total = |v: &[Vec<f64>], r: usize| v.get(r).map_or(0.0, |v| v.iter().sum::<f64>());
-        let marked = |v: &[Vec<f64>], r: usize, mask: &[bool]| {
-            let v = v.get(r).map_or(&[][..], Vec::as_slice);
-            mask.iter().zip(v).filter(|(m, _)| **m).map(|(_, v)| v).sum::<f64>()
-        };
-        memory.speed.clear();
-        memory.odometer.clear();
-        for m in &memory.movers {
-            let of = |v: &[Vec<f64>]| match m {
-                Movers::Robot(r) => total(v, *r),
-                Movers::Apart(r, mask) => marked(v, *r, mask),
-                Movers::Weighted(r, w) => v.get(*r).map_or(0.0, |v| v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>()),
-                Movers::Robots(a, b) => total(v, *a) + total(v, *b),
-            };
-            memory.speed.push(of(rates));
-            memory.odometer.push(of(odometers));
+        memory.instant += 1;
+        memory.joint_odo.clear();
+        memory.joint_odo.extend(odometers.iter().cloned());
+        if listed || memory.rates.as_slice() != rates {
+            memory.start_stretch(t, rates);
+            if !memory.fresh && !memory.every_pair {
+                memory.rebuild_queue();
+            }
         }
-        let standing_bounded = memory.movers.iter().enumerate().all(|(g, m)| {
-            memory.speed[g] > 0.0 || !memory.populated[g] || m.robots().iter().all(|&r| still.get(r) == Some(&true))
-        });
+        let standing_bounded = memory.standing.iter().all(|&r| still.get(r) == Some(&true));
         let free = if memory.fresh || memory.every_pair {
             let free = self.free_time_all(s, memory);
             if memory.fresh && !memory.every_pair {
-                memory.rebuild_queues();
+                memory.rebuild_queue();
             }
             memory.fresh = false;
             free
         } else {
-            self.free_time_queued(s, memory)
+            self.free_time_queued(s, memory, t)
         };
         (free, standing_bounded && free > 0.0)
     }
@@ -314,16 +367,19 @@ impl Cell<'_> {
     /// grows stale (a looser bound), so [`Self::measure`] takes the gap afresh before it
     /// measures, and remembers it when it proves the pair need not be measured.
     fn bound(&self, s: &Scratch, memory: &mut Memory, k: usize) -> f64 {
-        let p = &memory.pairs[k];
-        let speed = memory.speed[p.movers];
+        let g = memory.pairs[k].movers;
+        let speed = memory.speed[g];
         if speed <= 0.0 {
-            f64::INFINITY
-        } else if let Some((then, odometer)) = memory.measured[k] {
-            (then - (memory.odometer[p.movers] - odometer)) / speed
+            return f64::INFINITY;
+        }
+        let now = memory.odometer(g);
+        let p = &memory.pairs[k];
+        if let Some((then, odometer)) = memory.measured[k] {
+            (then - (now - odometer)) / speed
         } else {
             let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
             let slack = gap - p.must;
-            memory.measured[k] = Some((slack, memory.odometer[p.movers]));
+            memory.measured[k] = Some((slack, now));
             slack / speed
         }
     }
@@ -334,9 +390,10 @@ impl Cell<'_> {
     /// turned boxes' gap) proves it cannot lower `free`; the pair keeps the least slack
     /// (or gap) of its shape pairs.
     fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
+        let now = memory.odometer(memory.pairs[k].movers);
         let p = &memory.pairs[k];
         let (a, b) = (self.parts(s, &memory.units, p.a), self.parts(s, &memory.units, p.b));
-        let (speed, now, must) = (memory.speed[p.movers], memory.odometer[p.movers], p.must);
+        let (speed, must) = (memory.speed[p.movers], p.must);
         let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
         if (gap - must) / speed >= *free {
             // The gap is no more than the pair's slack now; keep the tighter bound.
@@ -410,41 +467,32 @@ impl Cell<'_> {
         free
     }
 
-    /// [`Self::free_time_all`] by the queues: only the pairs whose bound can be the least
-    /// or below the free time are taken off them (give or take [`EXPIRY_SLOP`]), and each
-    /// is decided by its own bound, exactly as the full pass decides it: the same pairs
-    /// are measured, in the same order, and the same free time comes out.
-    fn free_time_queued(&self, s: &Scratch, memory: &mut Memory) -> f64 {
+    /// [`Self::free_time_all`] by the queue: only the pairs whose bound can be the least
+    /// or below the free time are taken off it (give or take [`EXPIRY_SLOP`]), and each is
+    /// decided by its own bound, exactly as the full pass decides it: the same pairs are
+    /// measured, in the same order, and the same free time comes out.
+    fn free_time_queued(&self, s: &Scratch, memory: &mut Memory, t: f64) -> f64 {
         memory.taken.clear();
-        let moving: Vec<usize> = (0..memory.movers.len()).filter(|&g| memory.speed[g] > 0.0).collect();
-        // Odometer reading below which a pair of movers `g` may have a bound under `b`.
-        let limit =
-            |m: &Memory, g: usize, b: f64| (b + b.abs() * 1e-9 + 1e-12) * m.speed[g] + m.odometer[g] + EXPIRY_SLOP;
+        // The time by which a pair whose bound is below `b` runs out.
+        let limit = |b: f64| t + (b + b.abs() * 1e-9 + 1e-12);
         // The pairs not measured yet first: their bounds (boxes' gaps) are taken now.
-        for &g in &moving {
-            memory.take_below(g, f64::MIN);
-        }
+        memory.take_below(f64::MIN);
         let mut front = f64::INFINITY;
         for i in 0..memory.taken.len() {
-            let k = memory.taken[i].1.k as usize;
+            let k = memory.taken[i].k as usize;
             front = front.min(self.bound(s, memory, k));
         }
-        for &g in &moving {
-            if let Some(Reverse(e)) = memory.queues[g].peek() {
-                front = front.min((e.expiry.0 - memory.odometer[g]) / memory.speed[g]);
-            }
+        if let Some(e) = memory.front() {
+            front = front.min(e.expires.0 - t);
         }
         if front == f64::INFINITY || front.is_nan() {
             memory.put_back();
             return f64::INFINITY;
         }
-        for &g in &moving {
-            let lim = limit(memory, g, front);
-            memory.take_below(g, lim);
-        }
+        memory.take_below(limit(front));
         let mut least = (f64::INFINITY, usize::MAX);
         for i in 0..memory.taken.len() {
-            let k = memory.taken[i].1.k as usize;
+            let k = memory.taken[i].k as usize;
             let b = self.bound(s, memory, k);
             if b < least.0 || (b == least.0 && b < f64::INFINITY && k < least.1) {
                 least = (b, k);
@@ -454,13 +502,9 @@ impl Cell<'_> {
         if least.1 != usize::MAX {
             self.measure(s, memory, least.1, &mut free);
             memory.requeue(least.1);
-            for &g in &moving {
-                let lim = limit(memory, g, free);
-                memory.take_below(g, lim);
-            }
+            memory.take_below(limit(free));
         }
-        let mut candidates: Vec<usize> =
-            memory.taken.iter().map(|(_, e)| e.k as usize).filter(|&k| k != least.1).collect();
+        let mut candidates: Vec<usize> = memory.taken.iter().map(|e| e.k as usize).filter(|&k| k != least.1).collect();
         candidates.sort_unstable();
         for k in candidates {
             if free == 0.0 {
@@ -472,127 +516,9 @@ impl Cell<'_> {
             }
         }
         memory.put_back();
-        let queued: usize = memory.queues.iter().map(BinaryHeap::len).sum();
-        if queued > 4 * memory.pairs.len() + 64 {
-            memory.rebuild_queues();
+        if memory.queue.len() > 4 * memory.pairs.len() + 64 {
+            memory.rebuild_queue();
         }
         free
-    }
-
-    /// Every pair the checks look at, in an order fixed by who holds what and which
-    /// objects are in place; nothing measured yet.
-    fn list_pairs(&self, at: &[RobotAt], present: &ObjectSet, s: &Scratch, memory: &mut Memory) {
-        let c = self.clearance;
-        let whole_bodies = !memory.every_pair;
-        memory.units = s
-            .posed
-            .iter()
-            .zip(&self.robots)
-            .map(|(posed, g)| {
-                let mut balls = vec![whole_bodies; g.bodies.len()];
-                for ps in posed.iter().filter(|ps| ps.shape.0.as_ball().is_none()) {
-                    balls[ps.body] = false;
-                }
-                let mut units: Vec<Unit> = Vec::new();
-                let mut unit_of: Vec<Option<usize>> = vec![None; g.bodies.len()];
-                for (i, ps) in posed.iter().enumerate() {
-                    match unit_of[ps.body] {
-                        Some(u) if balls[ps.body] => units[u].shapes.push(i),
-                        _ => {
-                            unit_of[ps.body] = Some(units.len());
-                            units.push(Unit { body: ps.body, shapes: vec![i] });
-                        }
-                    }
-                }
-                units
-            })
-            .collect();
-        let (pairs, movers, memory_reach) = (&mut memory.pairs, &mut memory.movers, &memory.reach);
-        let units = &memory.units;
-        pairs.clear();
-        movers.clear();
-        let mut group = |m: Movers| {
-            movers.push(m);
-            movers.len() - 1
-        };
-        for (ri, ra) in at.iter().enumerate() {
-            let g = &self.robots[ri];
-            let held = &s.held[ri];
-            // Each unit, with its body.
-            let bodies = |ri: usize| units[ri].iter().enumerate().map(|(u, unit)| (u, unit.body));
-            let checked = |owner: StaticOwner, carried: bool| match owner {
-                StaticOwner::Fixed(_) => true,
-                StaticOwner::Object(o) => {
-                    present.contains(o) && ra.held.is_none_or(|h| h.object != o) && (carried || Some(o) != ra.exempt)
-                }
-            };
-            let whole = group(Movers::Robot(ri));
-            let weigh = |body: usize| -> Vec<f64> {
-                (0..g.body_joints[body].len()).map(|j| own_weight(g, memory_reach.get(ri), body, j)).collect()
-            };
-            // Against the scene a body closes in no faster than its own points move: the
-            // joints below it, each by the body's own reach. A link near the base moves
-            // slowly, whatever the wrist does.
-            let mut own: Vec<Option<usize>> = vec![None; g.bodies.len()];
-            for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, false)) {
-                for (u, b) in bodies(ri).filter(|&(_, b)| g.bodies[b].moving) {
-                    let m = *own[b].get_or_insert_with(|| group(Movers::Weighted(ri, weigh(b))));
-                    pairs.push(Pair { a: Thing::Unit(ri, u), b: Thing::Static(e), must: c, movers: m });
-                }
-            }
-            for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, true)) {
-                for i in 0..held.len() {
-                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Static(e), must: 0.0, movers: whole });
-                }
-            }
-            let apart = |x: &[bool], y: &[bool]| x.iter().zip(y).map(|(x, y)| x != y).collect::<Vec<bool>>();
-            for &(a, b) in &g.self_pairs {
-                let weights = (0..g.body_joints[a].len())
-                    .map(|j| {
-                        let moved = match (g.body_joints[a][j], g.body_joints[b][j]) {
-                            (true, false) => a,
-                            (false, true) => b,
-                            _ => return 0.0,
-                        };
-                        own_weight(g, memory_reach.get(ri), moved, j)
-                    })
-                    .collect();
-                let m = group(Movers::Weighted(ri, weights));
-                for (x, _) in bodies(ri).filter(|&(_, x)| x == a) {
-                    for (y, _) in bodies(ri).filter(|&(_, y)| y == b) {
-                        pairs.push(Pair { a: Thing::Unit(ri, x), b: Thing::Unit(ri, y), must: 0.0, movers: m });
-                    }
-                }
-            }
-            for i in 0..held.len() {
-                for (u, b) in bodies(ri).filter(|&(_, b)| !g.bodies[b].holds) {
-                    let m = group(Movers::Apart(ri, apart(&g.flange_joints, &g.body_joints[b])));
-                    pairs.push(Pair { a: Thing::Held(ri, i), b: Thing::Unit(ri, u), must: 0.0, movers: m });
-                }
-            }
-            for rj in ri + 1..at.len() {
-                let gj = &self.robots[rj];
-                let both = group(Movers::Robots(ri, rj));
-                let mine = bodies(ri).map(|(u, b)| (Thing::Unit(ri, u), g.bodies[b].moving));
-                for (x, xm) in mine.chain((0..held.len()).map(|i| (Thing::Held(ri, i), true))) {
-                    let theirs = bodies(rj).map(|(u, b)| (Thing::Unit(rj, u), gj.bodies[b].moving));
-                    for (y, ym) in theirs.chain((0..s.held[rj].len()).map(|k| (Thing::Held(rj, k), true))) {
-                        if xm || ym {
-                            pairs.push(Pair { a: x, b: y, must: c, movers: both });
-                        }
-                    }
-                }
-            }
-        }
-        memory.populated.clear();
-        memory.populated.resize(memory.movers.len(), false);
-        for p in &memory.pairs {
-            memory.populated[p.movers] = true;
-        }
-        memory.measured.clear();
-        memory.measured.resize(memory.pairs.len(), None);
-        memory.hints.clear();
-        memory.hints.resize(memory.pairs.len(), GjkStart::default());
-        memory.fresh = true;
     }
 }

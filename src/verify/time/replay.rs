@@ -97,7 +97,7 @@ pub(super) fn run(
         // pair's lower bound is above what it must keep: the check would find nothing (not
         // taken in the reference mode that checks every step).
         let (free, proved) = match motion {
-            Some((rates, odometers)) => cell.free_time(&at, &present, &still, rates, odometers, &scratch, &mut memory),
+            Some(motion) => cell.free_time(&at, &present, &still, t, motion, &scratch, &mut memory),
             None => (0.0, false),
         };
         let settled = clear || (proved && !opts.every_step);
