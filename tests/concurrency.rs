@@ -83,8 +83,7 @@ fn skipping_ahead_where_nothing_can_come_close_finds_what_every_step_finds() {
 }
 
 /// The replay's free time taken from the pairs whose bounds can matter (queued by when
-/// their bounds run out, the turned boxes' gap tried before GJK) against every pair's
-/// bound at every instant and GJK on every pair measured: the same instants
+/// their bounds run out) against every pair's bound at every instant: the same instants
 /// and the same findings, on split_lid shifted from safe to colliding (as above) and on
 /// every shipped example that solves, at clearances 0 and 2 cm.
 #[test]

@@ -58,6 +58,7 @@ fn options(velocity: f64, acceleration: f64) -> ReplayOptions {
         limits: RateLimits { velocity: vec![vec![velocity; 3]; 2], acceleration: vec![vec![acceleration; 3]; 2] },
         every_step: false,
         every_pair: false,
+        record_instants: false,
     }
 }
 
@@ -500,4 +501,87 @@ fn a_clearance_is_a_distance_every_moving_pair_must_keep() {
         }
     }
     assert!(v[0].to_string().contains("mm from robot `p2`"), "{}", v[0]);
+}
+
+/// Position of a Hermite trajectory at `t` (held at its ends), as the replay interpolates.
+fn q_at(points: &[TimedPoint], t: f64) -> Vec<f64> {
+    use declutter::verify::time::hermite::Cubic;
+    let k = points.partition_point(|p| p.t <= t).saturating_sub(1).min(points.len() - 2);
+    let (a, b) = (&points[k], &points[k + 1]);
+    let h = b.t - a.t;
+    let s = ((t - a.t) / h).clamp(0.0, 1.0);
+    (0..a.q.len()).map(|j| Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).position(s)).collect()
+}
+
+/// Random trajectories through `knots` (interval, configuration, velocity), at rest at
+/// both ends.
+fn through(knots: &[(f64, Vec<f64>, Vec<f64>)]) -> Vec<TimedPoint> {
+    let mut t = 0.0;
+    let last = knots.len() - 1;
+    knots
+        .iter()
+        .enumerate()
+        .map(|(i, (dt, q, qd))| {
+            if i > 0 {
+                t += dt;
+            }
+            let qd = if i == 0 || i == last { vec![0.0; q.len()] } else { qd.clone() };
+            TimedPoint { t, q: q.clone(), qd }
+        })
+        .collect()
+}
+
+/// The instants the every-step replay samples for `p1` on `points` (`p2` standing).
+fn instants(w: &World, points: &[TimedPoint]) -> Vec<f64> {
+    let end = points.last().expect("points").t;
+    let p2: Vec<f64> = vec![0.0; w.dof(P2)];
+    let stand = Track {
+        robot: P2,
+        points: vec![
+            TimedPoint { t: 0.0, q: p2.clone(), qd: p2.clone() },
+            TimedPoint { t: end, q: p2.clone(), qd: p2 },
+        ],
+    };
+    let tl = Timeline {
+        makespan: end,
+        tracks: vec![Track { robot: P1, points: points.to_vec() }, stand],
+        events: vec![],
+        actions: vec![],
+    };
+    let opts = ReplayOptions { every_step: true, record_instants: true, ..options(1e3, 1e5) };
+    replay(w, &tl, &opts).0.instants
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Between two instants of the replay no corner of the planar arm moves more than the
+    /// bound (sampled 16 times between them), on random trajectories: each window's own
+    /// peak speeds step it, and the bound still holds.
+    #[test]
+    fn between_two_instants_no_point_of_the_planar_arm_moves_more_than_the_bound(
+        knots in prop::collection::vec(
+            (0.1f64..0.6, prop::collection::vec(-2.5f64..2.5, 3), prop::collection::vec(-3.0f64..3.0, 3)),
+            2..5,
+        ),
+    ) {
+        let w = world(&facing_at(5.0));
+        let points = through(&knots);
+        let ts = instants(&w, &points);
+        prop_assert!(ts.len() > 2);
+        let mut widest: f64 = 0.0;
+        for pair in ts.windows(2) {
+            let from = corners(&w, P1, &q_at(&points, pair[0]));
+            for i in 1..=16 {
+                let t = pair[0] + (pair[1] - pair[0]) * i as f64 / 16.0;
+                for (a, b) in from.iter().zip(corners(&w, P1, &q_at(&points, t))) {
+                    let moved = (b - a).norm();
+                    widest = widest.max(moved);
+                    prop_assert!(moved <= SAMPLE_BOUND + 1e-12, "{moved} between {} and {t}", pair[0]);
+                }
+            }
+        }
+        // Not trivially: some steps use most of the bound.
+        prop_assert!(widest > 0.3 * SAMPLE_BOUND, "widest step {widest}");
+    }
 }

@@ -194,6 +194,7 @@ pub fn verify_with(world: &World, schedule: &Schedule, opts: &Options) -> Result
             limits,
             every_step: opts.every_step,
             every_pair: opts.every_pair,
+            record_instants: false,
         };
         let (replayed, found) = time::replay(world, &tl, &opts);
         summary.samples = replayed.samples;

@@ -18,8 +18,7 @@ mod pairs;
 use super::scene::{Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{
-    aabb_gap, distance_at_least, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet,
-    LOWER_BOUND_TOLERANCE,
+    aabb_gap, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet, LOWER_BOUND_TOLERANCE,
 };
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
@@ -120,9 +119,12 @@ pub(super) struct Memory {
     taken: Vec<Entry>,
     /// The pairs changed since the last instant: the next one measures them all.
     fresh: bool,
-    /// Take every pair's bound at every instant, not only the queue's front; every shape
-    /// on its own, not a body of balls as one unit; and GJK without the turned boxes'
-    /// gap first, from a cold start: what those shortcuts are tested against.
+    /// Take every pair's bound at every instant, not only the queue's front, and every
+    /// shape on its own, not a body of balls as one unit: what those two are tested
+    /// against. A pair is measured alike in both (the turned boxes' gap before GJK, GJK
+    /// from the pair's last simplex: lower bounds held to their own tests), so that both
+    /// skip to the same instants: GJK stops within its tolerance wherever its start
+    /// leaves it, and two such bounds may straddle an instant.
     pub every_pair: bool,
     /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
     /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
@@ -409,9 +411,8 @@ impl Cell<'_> {
                     slack = slack.min(gap - must);
                     continue;
                 }
-                // GJK is dear enough to try the turned boxes' gap first (not in the mode
-                // the shortcuts are tested against).
-                if !memory.every_pair && !in_closed_form(x.shape, y.shape) {
+                // GJK is dear enough to try the turned boxes' gap first.
+                if !in_closed_form(x.shape, y.shape) {
                     let turned = turned_boxes_gap(x.pose, x.shape, y.pose, y.shape).max(gap);
                     if (turned - must) / speed >= *free {
                         slack = slack.min(turned - must);
@@ -419,19 +420,16 @@ impl Cell<'_> {
                     }
                 }
                 // A lower bound on the distance (GJK's dual bound, within 10 µm of it),
-                // started from the pair's last simplex (not in the reference mode). A pair
-                // parry cannot measure keeps its gap.
-                let d = match memory.every_pair {
-                    true => distance_at_least(x.pose, x.shape, y.pose, y.shape, LOWER_BOUND_TOLERANCE),
-                    false => distance_at_least_from(
-                        x.pose,
-                        x.shape,
-                        y.pose,
-                        y.shape,
-                        LOWER_BOUND_TOLERANCE,
-                        &mut memory.hints[k],
-                    ),
-                };
+                // started from the pair's last simplex. A pair parry cannot measure keeps
+                // its gap.
+                let d = distance_at_least_from(
+                    x.pose,
+                    x.shape,
+                    y.pose,
+                    y.shape,
+                    LOWER_BOUND_TOLERANCE,
+                    &mut memory.hints[k],
+                );
                 let d = d.map_or(gap, |d| d.max(gap));
                 slack = slack.min(d - must);
                 *free = free.min(((d - must) / speed).max(0.0));

@@ -55,6 +55,16 @@ impl Cubic {
         best
     }
 
+    /// The largest |velocity| over `[s0, s1]`, a part of the segment: its ends, and the
+    /// parabola's vertex when it lies between them.
+    pub fn max_speed_on(&self, s0: f64, s1: f64) -> f64 {
+        let ends = self.velocity(s0).abs().max(self.velocity(s1).abs());
+        match self.velocity_vertex().filter(|s| *s > s0 && *s < s1) {
+            Some(s) => ends.max(self.velocity(s).abs()),
+            None => ends,
+        }
+    }
+
     /// The largest |acceleration| over the segment (at an end: it is linear), and where.
     pub fn max_acceleration(&self) -> (f64, f64) {
         let (a0, a1) = (self.acceleration(0.0).abs(), self.acceleration(1.0).abs());
@@ -117,6 +127,25 @@ mod tests {
         assert!((v - 0.75).abs() < 1e-12 && (s - 0.5).abs() < 1e-12);
         let (a, _) = c.max_acceleration();
         assert!((a - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_peak_speed_on_a_part_is_at_its_ends_or_the_vertex_inside_it() {
+        // Rest to rest over 2 s: q = 3s² − 2s³, v(s) = 3s(1 − s): 0.75 at s = ½, 0 at the ends.
+        let c = Cubic::new(2.0, 0.0, 0.0, 1.0, 0.0);
+        assert!((c.max_speed_on(0.0, 1.0) - 0.75).abs() < 1e-12);
+        assert!((c.max_speed_on(0.4, 0.6) - 0.75).abs() < 1e-12);
+        // Off the vertex the larger end: v(0.25) = v(0.75) = 0.5625.
+        assert!((c.max_speed_on(0.0, 0.25) - 0.5625).abs() < 1e-12);
+        assert!((c.max_speed_on(0.75, 1.0) - 0.5625).abs() < 1e-12);
+        // Finely sampled, never above.
+        for k in 0..100 {
+            let (a, b) = (k as f64 / 100.0, (k + 1) as f64 / 100.0);
+            let peak = c.max_speed_on(a, b);
+            for i in 0..=20 {
+                assert!(c.velocity(a + (b - a) * i as f64 / 20.0).abs() <= peak + 1e-15);
+            }
+        }
     }
 
     #[test]

@@ -8,10 +8,11 @@
 //!
 //! Between two points of a trajectory each joint follows the cubic Hermite curve
 //! through both points' positions and velocities ([`hermite`]). The sampling is the
-//! verifier's own, independent of the scenario's `resolution`: within each stretch
-//! between trajectory points the step is chosen so that no point of any robot body, or
-//! of an object a robot carries, moves more than [`SAMPLE_BOUND`] between consecutive
-//! samples (from the exact peak joint speeds and [`JointReach`]). At each sample:
+//! verifier's own, independent of the scenario's `resolution`: each stretch between
+//! trajectory points is cut into windows, and in each the step is chosen so that no
+//! point of any robot body, or of an object a robot carries, moves more than
+//! [`SAMPLE_BOUND`] between consecutive samples (from the window's exact peak joint
+//! speeds and [`JointReach`]). At each sample:
 //! robot–robot, robot–carried object, carried–carried, robot–fixed, robot–object in
 //! place, carried–scene, and self-collision over every link pair but the URDF's
 //! adjacent ones and `allow_contact` (no sampled pruning). Objects are in place until
@@ -22,6 +23,7 @@
 mod advance;
 mod events;
 pub mod from_schedule;
+mod grid;
 pub mod hermite;
 pub mod read;
 mod replay;
@@ -134,6 +136,9 @@ pub struct ReplayOptions {
     /// a spherized body's balls together: slower, and what the faster way is tested
     /// against (it skips to the same instants).
     pub every_pair: bool,
+    /// Keep every instant sampled in [`ReplaySummary::instants`] (for tests of the
+    /// sampling itself).
+    pub record_instants: bool,
 }
 
 /// What a replay looked at.
@@ -141,6 +146,9 @@ pub struct ReplayOptions {
 pub struct ReplaySummary {
     /// Instants at which the whole cell was checked.
     pub samples: u64,
+    /// Those instants in the order sampled (the fingers' postures at grasps and releases
+    /// last), when [`ReplayOptions::record_instants`] asks for them.
+    pub instants: Vec<f64>,
 }
 
 /// Replays the timeline; returns what it checked and every violation found.
@@ -154,6 +162,6 @@ pub fn replay(world: &World, tl: &Timeline, opts: &ReplayOptions) -> (ReplaySumm
     }
     let by_robot = track::by_robot(world, tl);
     let marks = events::check_actions(world, tl, &by_robot, &mut out);
-    summary.samples = replay::run(world, tl, &by_robot, &marks, opts, &mut out);
+    summary.samples = replay::run(world, tl, &by_robot, &marks, opts, &mut out, &mut summary.instants);
     (summary, out)
 }

@@ -3,8 +3,9 @@
 
 use super::advance::Memory;
 use super::events::Marks;
+use super::grid::{Grid, WINDOWS};
 use super::scene::{Cell, Finding, RobotAt, Scratch};
-use super::track::{peak_speeds, segment_at, state_at};
+use super::track::{peak_speeds, peak_speeds_between, segment_at, state_at};
 use super::{ReplayOptions, TimeViolation, Timeline, Track};
 use crate::resolve::{ObjectId, RobotId};
 use crate::verify::Violation;
@@ -27,6 +28,7 @@ pub(super) fn run(
     marks: &Marks,
     opts: &ReplayOptions,
     out: &mut Vec<Violation>,
+    instants: &mut Vec<f64>,
 ) -> u64 {
     let cell = Cell::new(world, opts.clearance);
     let reach = reaches(world, tracks, marks);
@@ -58,6 +60,9 @@ pub(super) fn run(
                       closing: Option<(usize, &Held)>|
      -> f64 {
         *samples += 1;
+        if opts.record_instants {
+            instants.push(t);
+        }
         for (tr, (q, qd)) in tracks.iter().zip(state.iter_mut()) {
             state_at(tr, t, q, qd);
         }
@@ -115,25 +120,36 @@ pub(super) fn run(
     // Per robot, per joint: the integral of its rate up to the stretch's start.
     let mut travelled: Vec<Vec<f64>> = reach.iter().map(|r| vec![0.0; r.len()]).collect();
     let mut odometers = travelled.clone();
+    let mut window_peak = Vec::new();
     for w in times.windows(2) {
         let (ta, tb) = (w[0], w[1]);
         // How fast each joint of each robot moves any point it moves on this stretch, and
         // the fastest any point of any robot (or what it may carry) moves.
         let mid = 0.5 * (ta + tb);
-        for ((tr, r), rate) in tracks.iter().zip(&reach).zip(rates.iter_mut()) {
-            peak_speeds(tr, segment_at(tr, mid), &mut peak);
+        let segments: Vec<usize> = tracks.iter().map(|tr| segment_at(tr, mid)).collect();
+        for (((tr, &k), r), rate) in tracks.iter().zip(&segments).zip(&reach).zip(rates.iter_mut()) {
+            peak_speeds(tr, k, &mut peak);
             *rate = r.iter().zip(&peak).map(|(r, v)| r * v.abs()).collect();
         }
         let speed = rates.iter().map(|r| r.iter().sum::<f64>()).fold(0.0, f64::max);
-        // Steps of the bound (no point moves more between two instants), or longer where
-        // the instant just checked proves that nothing can come too close before the next.
-        let n = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
-        let step = (tb - ta) / n as f64;
-        let mut i = 0u64;
+        // Steps of the bound (no point moves more between two instants), each window of the
+        // stretch by its own peak speeds; or longer where the instant just checked proves
+        // that nothing can come too close before the next. The proofs take the stretch's
+        // rates, so they hold across its windows.
+        let uniform = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
+        let grid = Grid::new(ta, tb, uniform.min(WINDOWS), opts.bound, |a, b| {
+            let mut fastest = 0.0f64;
+            for ((tr, &k), r) in tracks.iter().zip(&segments).zip(&reach) {
+                peak_speeds_between(tr, k, a, b, &mut window_peak);
+                fastest = fastest.max(r.iter().zip(&window_peak).map(|(r, v)| r * v).sum::<f64>());
+            }
+            fastest
+        });
         // Nothing can be too close up to this instant, as the last one proved.
         let mut clear_until = f64::NEG_INFINITY;
-        while i < n {
-            let t = ta + step * i as f64;
+        let mut at = grid.first();
+        while let Some(i) = at {
+            let t = grid.time(i);
             for ((o, base), rate) in odometers.iter_mut().zip(&travelled).zip(&rates) {
                 for ((o, b), v) in o.iter_mut().zip(base).zip(rate) {
                     *o = b + v * (t - ta);
@@ -141,8 +157,7 @@ pub(super) fn run(
             }
             let free = sample(t, Some((&rates, &odometers)), !opts.every_step && t <= clear_until, &mut samples, None);
             clear_until = t + free;
-            let ahead = if opts.every_step { 1 } else { (free / step).floor() as u64 };
-            i += ahead.clamp(1, n - i);
+            at = if opts.every_step { grid.next(i) } else { grid.skip_to(i, t + free) };
         }
         for (base, rate) in travelled.iter_mut().zip(&rates) {
             for (b, v) in base.iter_mut().zip(rate) {

@@ -161,3 +161,23 @@ pub(super) fn peak_speeds(tr: &Track, k: usize, out: &mut Vec<f64>) {
         out.push(Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).max_speed().0);
     }
 }
+
+/// Per joint, the largest |velocity| on segment `k` between times `t0` and `t1` (taken a
+/// hair wider, so that rounding the window's ends cannot miss a peak at one of them).
+/// Outside the trajectory's span a joint stands still, and the segment's end speed (0 at
+/// a trajectory's ends as written) bounds it.
+pub(super) fn peak_speeds_between(tr: &Track, k: usize, t0: f64, t1: f64, out: &mut Vec<f64>) {
+    out.clear();
+    let (Some(a), Some(b)) = (tr.points.get(k), tr.points.get(k + 1)) else {
+        if let Some(p) = tr.points.first() {
+            out.extend(p.q.iter().map(|_| 0.0));
+        }
+        return;
+    };
+    let h = b.t - a.t;
+    let s0 = ((t0 - a.t) / h - 1e-12).clamp(0.0, 1.0);
+    let s1 = ((t1 - a.t) / h + 1e-12).clamp(0.0, 1.0);
+    for j in 0..a.q.len() {
+        out.push(Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).max_speed_on(s0, s1));
+    }
+}
