@@ -23,7 +23,6 @@ mod load;
 mod lower_bound;
 mod pair_grid;
 mod proximity;
-mod reach_at;
 mod robot;
 mod scene;
 mod self_pairs;
@@ -43,7 +42,6 @@ pub use grasps::{
 pub use labels::{Blocker, Check, ObjectSet};
 pub use lower_bound::{distance_at_least, distance_at_least_from, GjkStart, LOWER_BOUND_TOLERANCE};
 pub use proximity::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, RobotAt};
-pub use reach_at::ReachAt;
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 pub use urdf::DEFAULT_VELOCITY;

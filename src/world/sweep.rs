@@ -315,7 +315,7 @@ fn radius_at(pose: &PPose, shape: &SharedShape) -> f64 {
 
 /// How far link `l`'s origin can be from its parent's: the fixed offset plus, for a
 /// sliding joint, its travel.
-pub(super) fn link_step(m: &RobotModel, l: usize) -> f64 {
+fn link_step(m: &RobotModel, l: usize) -> f64 {
     let link = &m.chain.links[l];
     let offset = link.pose_parent_joint.translation.vector.norm();
     let travel = match (link.motion, link.source) {
@@ -330,7 +330,7 @@ pub(super) fn link_step(m: &RobotModel, l: usize) -> f64 {
 }
 
 /// Per link: the farthest shape point from its own origin, in every finger posture.
-pub(super) fn own_radii(m: &RobotModel) -> Vec<f64> {
+fn own_radii(m: &RobotModel) -> Vec<f64> {
     let mut own = vec![0.0f64; m.chain.links.len()];
     for (si, s) in m.shapes.iter().enumerate() {
         let l = m.bodies[s.body].link;

@@ -12,8 +12,7 @@
 //! trajectory points is cut into windows, and in each the step is chosen so that no
 //! point of any robot body, or of an object a robot carries, moves more than
 //! [`SAMPLE_BOUND`] between consecutive samples (from the window's exact peak joint
-//! speeds and each joint's reach as the arm stands at the window's start, grown by what
-//! the window can move and capped by [`JointReach`]). At each sample:
+//! speeds and [`JointReach`]). At each sample:
 //! robot–robot, robot–carried object, carried–carried, robot–fixed, robot–object in
 //! place, carried–scene, and self-collision over every link pair but the URDF's
 //! adjacent ones and `allow_contact` (no sampled pruning). Objects are in place until

@@ -31,8 +31,7 @@ pub(super) fn run(
     instants: &mut Vec<f64>,
 ) -> u64 {
     let cell = Cell::new(world, opts.clearance);
-    let (reach, held_radius) = reaches(world, tracks, marks);
-    let reach_at: Vec<_> = tracks.iter().map(|tr| world.reach_at(tr.robot)).collect();
+    let reach = reaches(world, tracks, marks);
     let times = breakpoints(tl, tracks, marks);
     let n_objects = world.scenario().objects.len();
     let mut scratch = Scratch::default();
@@ -121,8 +120,7 @@ pub(super) fn run(
     // Per robot, per joint: the integral of its rate up to the stretch's start.
     let mut travelled: Vec<Vec<f64>> = reach.iter().map(|r| vec![0.0; r.len()]).collect();
     let mut odometers = travelled.clone();
-    let (mut window_peak, mut q_at, mut qd_at, mut links, mut here) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut window_peak = Vec::new();
     for w in times.windows(2) {
         let (ta, tb) = (w[0], w[1]);
         // How fast each joint of each robot moves any point it moves on this stretch, and
@@ -139,19 +137,11 @@ pub(super) fn run(
         // that nothing can come too close before the next. The proofs take the stretch's
         // rates, so they hold across its windows.
         let uniform = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
-        // Within a window, each joint's reach is its distance to what it moves as the arm
-        // stands at the window's start, grown by how far anything can move in the window
-        // (no more than the reach in any configuration).
         let grid = Grid::new(ta, tb, uniform.min(WINDOWS), opts.bound, |a, b| {
             let mut fastest = 0.0f64;
-            for (ri, (tr, &k)) in tracks.iter().zip(&segments).enumerate() {
+            for ((tr, &k), r) in tracks.iter().zip(&segments).zip(&reach) {
                 peak_speeds_between(tr, k, a, b, &mut window_peak);
-                let r = &reach[ri];
-                let moved = r.iter().zip(&window_peak).map(|(r, v)| r * v).sum::<f64>() * (b - a);
-                state_at(tr, a, &mut q_at, &mut qd_at);
-                reach_at[ri].at(&q_at, held_radius[ri], &mut links, &mut here);
-                let speed = r.iter().zip(&here).zip(&window_peak).map(|((r, h), v)| r.min(h + moved) * v).sum::<f64>();
-                fastest = fastest.max(speed);
+                fastest = fastest.max(r.iter().zip(&window_peak).map(|(r, v)| r * v).sum::<f64>());
             }
             fastest
         });
@@ -193,18 +183,17 @@ pub(super) fn run(
     samples
 }
 
-/// Per robot, per joint: the reach bound with the largest object the robot ever carries;
-/// and per robot that object's radius about the flange.
-fn reaches(world: &World, tracks: &[&Track], marks: &Marks) -> (Vec<Vec<f64>>, Vec<f64>) {
+/// Per robot, per joint: the reach bound with the largest object the robot ever carries.
+fn reaches(world: &World, tracks: &[&Track], marks: &Marks) -> Vec<Vec<f64>> {
     tracks
         .iter()
         .map(|tr| {
             let r: RobotId = tr.robot;
             let radius =
                 marks.carries.iter().filter(|c| c.robot == r).map(|c| world.held_radius(&c.held)).fold(0.0, f64::max);
-            (world.joint_reach(r).with_held(radius), radius)
+            world.joint_reach(r).with_held(radius)
         })
-        .unzip()
+        .collect()
 }
 
 /// Every instant where something changes: trajectory points and events, within 0..makespan.
