@@ -546,6 +546,29 @@ fn instants(w: &World, points: &[TimedPoint]) -> Vec<f64> {
     replay(w, &tl, &opts).0.instants
 }
 
+/// The farthest any of the points `at(t)` moves from one instant of `ts` up to the next
+/// (looked at `looks` times between them); an error when it is more than the bound.
+fn widest_step(ts: &[f64], looks: usize, at: impl Fn(f64) -> Vec<[f64; 3]>) -> Result<f64, String> {
+    if ts.len() <= 2 {
+        return Err(format!("only {} instants", ts.len()));
+    }
+    let mut widest: f64 = 0.0;
+    for pair in ts.windows(2) {
+        let from = at(pair[0]);
+        for i in 1..=looks {
+            let t = pair[0] + (pair[1] - pair[0]) * i as f64 / looks as f64;
+            for (a, b) in from.iter().zip(at(t)) {
+                let moved = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt();
+                widest = widest.max(moved);
+                if moved > SAMPLE_BOUND + 1e-12 {
+                    return Err(format!("{moved} between {} and {t}", pair[0]));
+                }
+            }
+        }
+    }
+    Ok(widest)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
@@ -561,20 +584,8 @@ proptest! {
     ) {
         let w = world(&facing_at(5.0));
         let points = through(&knots);
-        let ts = instants(&w, &points);
-        prop_assert!(ts.len() > 2);
-        let mut widest: f64 = 0.0;
-        for pair in ts.windows(2) {
-            let from = corners(&w, P1, &q_at(&points, pair[0]));
-            for i in 1..=16 {
-                let t = pair[0] + (pair[1] - pair[0]) * i as f64 / 16.0;
-                for (a, b) in from.iter().zip(corners(&w, P1, &q_at(&points, t))) {
-                    let moved = (b - a).norm();
-                    widest = widest.max(moved);
-                    prop_assert!(moved <= SAMPLE_BOUND + 1e-12, "{moved} between {} and {t}", pair[0]);
-                }
-            }
-        }
+        let at = |t: f64| corners(&w, P1, &q_at(&points, t)).iter().map(|p| [p.x, p.y, p.z]).collect();
+        let widest = widest_step(&instants(&w, &points), 16, at).map_err(TestCaseError::fail)?;
         // Not trivially: some steps use a good part of the bound.
         prop_assert!(widest > 0.1 * SAMPLE_BOUND, "widest step {widest}");
     }
@@ -600,20 +611,8 @@ proptest! {
         );
         let w = world(&scn);
         let points = through(&knots);
-        let ts = instants(&w, &points);
-        prop_assert!(ts.len() > 2);
-        let mut widest: f64 = 0.0;
-        for pair in ts.windows(2) {
-            let from = shape_points(&w, P1, &q_at(&points, pair[0]));
-            for i in 1..=8 {
-                let t = pair[0] + (pair[1] - pair[0]) * i as f64 / 8.0;
-                for (a, b) in from.iter().zip(shape_points(&w, P1, &q_at(&points, t))) {
-                    let moved = (b - *a).length();
-                    widest = widest.max(moved);
-                    prop_assert!(moved <= SAMPLE_BOUND + 1e-12, "{moved} between {} and {t}", pair[0]);
-                }
-            }
-        }
+        let at = |t: f64| shape_points(&w, P1, &q_at(&points, t)).iter().map(|p| p.to_array()).collect();
+        let widest = widest_step(&instants(&w, &points), 8, at).map_err(TestCaseError::fail)?;
         prop_assert!(widest > 0.1 * SAMPLE_BOUND, "widest step {widest}");
     }
 }

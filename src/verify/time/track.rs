@@ -149,17 +149,7 @@ pub(super) fn state_at(tr: &Track, t: f64, q: &mut Vec<f64>, qd: &mut Vec<f64>) 
 
 /// Per joint, the largest |velocity| on segment `k`.
 pub(super) fn peak_speeds(tr: &Track, k: usize, out: &mut Vec<f64>) {
-    out.clear();
-    let (Some(a), Some(b)) = (tr.points.get(k), tr.points.get(k + 1)) else {
-        if let Some(p) = tr.points.first() {
-            out.extend(p.q.iter().map(|_| 0.0));
-        }
-        return;
-    };
-    let h = b.t - a.t;
-    for j in 0..a.q.len() {
-        out.push(Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).max_speed().0);
-    }
+    segment_peaks(tr, k, None, out);
 }
 
 /// Per joint, the largest |velocity| on segment `k` between times `t0` and `t1` (taken a
@@ -167,6 +157,12 @@ pub(super) fn peak_speeds(tr: &Track, k: usize, out: &mut Vec<f64>) {
 /// Outside the trajectory's span a joint stands still, and the segment's end speed (0 at
 /// a trajectory's ends as written) bounds it.
 pub(super) fn peak_speeds_between(tr: &Track, k: usize, t0: f64, t1: f64, out: &mut Vec<f64>) {
+    segment_peaks(tr, k, Some((t0, t1)), out);
+}
+
+/// Per joint, the largest |velocity| on segment `k`, or on the part of it within `window`
+/// (times).
+fn segment_peaks(tr: &Track, k: usize, window: Option<(f64, f64)>, out: &mut Vec<f64>) {
     out.clear();
     let (Some(a), Some(b)) = (tr.points.get(k), tr.points.get(k + 1)) else {
         if let Some(p) = tr.points.first() {
@@ -175,8 +171,9 @@ pub(super) fn peak_speeds_between(tr: &Track, k: usize, t0: f64, t1: f64, out: &
         return;
     };
     let h = b.t - a.t;
-    let s0 = ((t0 - a.t) / h - 1e-12).clamp(0.0, 1.0);
-    let s1 = ((t1 - a.t) / h + 1e-12).clamp(0.0, 1.0);
+    let (s0, s1) = window.map_or((0.0, 1.0), |(t0, t1)| {
+        (((t0 - a.t) / h - 1e-12).clamp(0.0, 1.0), ((t1 - a.t) / h + 1e-12).clamp(0.0, 1.0))
+    });
     for j in 0..a.q.len() {
         out.push(Cubic::new(h, a.q[j], a.qd[j], b.q[j], b.qd[j]).max_speed_on(s0, s1));
     }
