@@ -408,7 +408,7 @@ impl Chain {
 
     /// The first `n` links' poses (a link's parent comes before it), the root at `root`.
     #[inline]
-    fn fk_prefix(&self, root: &Isometry3<f64>, q: &[f64], n: usize, out: &mut [Isometry3<f64>]) {
+    pub(crate) fn fk_prefix(&self, root: &Isometry3<f64>, q: &[f64], n: usize, out: &mut [Isometry3<f64>]) {
         for (i, l) in self.links.iter().enumerate().take(n) {
             out[i] = match l.parent {
                 None => *root,

@@ -233,7 +233,13 @@ fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
 
 /// The links at `q`, the fingers in `posture`, and no body's shapes placed yet.
 pub(super) fn start_posing(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
-    pose_links(m, q, s);
+    start_posing_upto(m, q, m.chain.links.len(), posture, s);
+}
+
+/// [`start_posing`] with the first `links` links placed only (a link's parent comes before
+/// it): enough for the bodies on them; the other links' poses are left as they were.
+pub(super) fn start_posing_upto(m: &RobotModel, q: &[f64], links: usize, posture: usize, s: &mut Scratch) {
+    pose_links(m, q, links, s);
     s.posture = posture;
     s.shape_pose.resize(m.shapes.len(), PPose::IDENTITY);
     s.shape_aabb.resize(m.shapes.len(), Aabb::new_invalid());
@@ -255,12 +261,15 @@ pub(super) fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
     }
 }
 
-/// World poses of the robot's links at `q`.
-fn pose_links(m: &RobotModel, q: &[f64], s: &mut Scratch) {
-    s.links.resize(m.chain.links.len(), Isometry3::identity());
-    m.chain.fk_from(&m.pose_world_base, q, &mut s.links);
-    s.link_pose.clear();
-    s.link_pose.extend(s.links.iter().map(to_ppose));
+/// World poses of the robot's first `n` links at `q`.
+fn pose_links(m: &RobotModel, q: &[f64], n: usize, s: &mut Scratch) {
+    let all = m.chain.links.len();
+    s.links.resize(all, Isometry3::identity());
+    m.chain.fk_prefix(&m.pose_world_base, q, n.min(all), &mut s.links);
+    s.link_pose.resize(all, PPose::IDENTITY);
+    for (to, from) in s.link_pose.iter_mut().zip(&s.links).take(n) {
+        *to = to_ppose(from);
+    }
 }
 
 pub(super) fn body_box(s: &Scratch, b: &super::robot::RBody) -> Aabb {

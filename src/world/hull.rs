@@ -51,16 +51,15 @@ pub(crate) struct Hull {
 }
 
 /// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
+/// STL files repeat a vertex for every triangle that has it (about six times); the hull
+/// of the distinct points is the same set of vertices and faces (checked on every mesh of
+/// `../shared/robots`) and takes parry a third of the time.
 pub(crate) fn mesh_hull(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
-    convex_mesh_shape(points, triangles).or_else(|| hull_shape(&distinct(points)))
-}
-
-/// The points in first-seen order, each once. STL files repeat a vertex for every
-/// triangle that has it (about six times); the hull of the distinct points is the same set
-/// of vertices and faces (checked on every mesh of `../shared/robots`) and takes parry a
-/// third of the time.
-fn distinct(points: &[PVec]) -> Vec<PVec> {
-    dedup(points).0
+    let (vertices, remap) = dedup(points);
+    match convex_triangles(&vertices, &remap, triangles) {
+        Some((tris, edges)) => from_triangles(vertices, &tris, &edges),
+        None => hull_shape(&vertices),
+    }
 }
 
 /// The distinct points in first-seen order, and for each point its index among them.
@@ -149,13 +148,9 @@ fn closed_edges(n: usize, triangles: &[[u32; 3]]) -> Option<ClosedEdges> {
     Some((first, edges))
 }
 
-/// The hull of a mesh that is its own hull (most collision meshes are): its distinct
-/// vertices and its triangles, without parry's quickhull, which was most of loading a
-/// mesh robot. `None` unless the mesh is closed, one piece of a sphere's topology, faces
-/// outwards, bends outwards at every edge and has no vertex off its triangles; then
-/// every vertex is on the hull and the triangles cover it. Otherwise the caller builds
-/// the hull.
-pub(crate) fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
+/// [`convex_triangles`]'s hull as a shape.
+#[cfg(test)]
+fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
     let (vertices, tris, edges) = convex_mesh(points, triangles)?;
     from_triangles(vertices, &tris, &edges)
 }
@@ -167,9 +162,21 @@ fn as_convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>,
 }
 
 /// A mesh that is its own hull: its distinct vertices, its triangles over them and their
-/// edges (see [`convex_mesh_shape`]).
+/// edges (see [`convex_triangles`]).
+#[cfg(test)]
 fn convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Vec<[u32; 3]>, ClosedEdges)> {
     let (vertices, remap) = dedup(points);
+    let (tris, edges) = convex_triangles(&vertices, &remap, triangles)?;
+    Some((vertices, tris, edges))
+}
+
+/// The hull of a mesh that is its own hull (most collision meshes are): its triangles over
+/// its distinct `vertices` (`remap` taking the mesh's indices to theirs) and their edges,
+/// without parry's quickhull, which was most of loading a mesh robot. `None` unless the mesh is closed, one piece of a sphere's topology, faces
+/// outwards, bends outwards at every edge and has no vertex off its triangles; then
+/// every vertex is on the hull and the triangles cover it. Otherwise the caller builds
+/// the hull.
+fn convex_triangles(vertices: &[PVec], remap: &[u32], triangles: &[[u32; 3]]) -> Option<(Vec<[u32; 3]>, ClosedEdges)> {
     let mut tris = Vec::with_capacity(triangles.len());
     for t in triangles {
         let t = t.map(|i| remap.get(i as usize).copied());
@@ -218,7 +225,7 @@ fn convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Ve
     if volume.is_nan() || volume <= 0.0 {
         return None;
     }
-    Some((vertices, tris, (first, edges)))
+    Some((tris, (first, edges)))
 }
 
 /// The directed edges `a -> b` of the triangles grouped by `a`, each with its triangle:

@@ -6,7 +6,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::check::{bodies_collide, body_box, pose_body, start_posing, Scratch};
+use super::check::{bodies_collide, body_box, pose_body, start_posing_upto, Scratch};
 use super::robot::RobotModel;
 use super::OPEN_POSTURE as OPEN;
 
@@ -90,9 +90,11 @@ const ALWAYS_FRACTION_NUM: f64 = 0.95;
 
 /// `check::pose_robot` for the bodies marked only, the fingers open: the others' entries are
 /// left as they were. The self-collision sampling, once most pairs are settled, poses
-/// the few bodies still in question.
+/// the few bodies still in question, and the links up to theirs only (a pair near the base
+/// that never comes near can keep the sampling going to the end).
 fn pose_bodies(m: &RobotModel, q: &[f64], bodies: &[bool], s: &mut Scratch) {
-    start_posing(m, q, OPEN, s);
+    let links = m.bodies.iter().zip(bodies).filter(|(_, open)| **open).map(|(b, _)| b.link + 1).max().unwrap_or(0);
+    start_posing_upto(m, q, links, OPEN, s);
     s.body_aabb.resize(m.bodies.len(), Aabb::new_invalid());
     for (bi, b) in m.bodies.iter().enumerate().filter(|(bi, _)| bodies[*bi]) {
         pose_body(m, s, bi);
