@@ -124,25 +124,35 @@ type ClosedEdges = (Vec<u32>, Vec<(u32, u32, u32)>);
 
 /// When the triangles close a surface (no corner repeated, every directed edge once, and
 /// its reverse once in another triangle): their directed edges grouped by first vertex,
-/// those of `a` being `edges[first[a]..first[a + 1]]`, each as (second vertex, its
-/// triangle, the triangle of its reverse). `None` otherwise.
+/// those of `a` being `edges[first[a]..first[a + 1]]` sorted by second vertex, each as
+/// (second vertex, its triangle, the triangle of its reverse). `None` otherwise.
 fn closed_edges(n: usize, triangles: &[[u32; 3]]) -> Option<ClosedEdges> {
     if triangles.iter().flatten().any(|&i| i as usize >= n)
         || triangles.iter().any(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
     {
         return None;
     }
-    let (first, out) = outgoing(n, triangles);
+    let (first, mut out) = outgoing(n, triangles);
+    // Sorted, a vertex's edges are found by halving: a fan's centre (a cylinder's cap) has
+    // dozens, and scanning them for each neighbour was most of loading the TX-90.
+    for a in 0..n {
+        out[first[a] as usize..first[a + 1] as usize].sort_unstable_by_key(|e| e.0);
+    }
     let from = |a: u32| &out[first[a as usize] as usize..first[a as usize + 1] as usize];
     let mut edges = Vec::with_capacity(out.len());
     for a in 0..n as u32 {
         let own = from(a);
         for (i, &(b, t)) in own.iter().enumerate() {
-            let mut back = from(b).iter().filter(|e| e.0 == a);
-            let (false, Some(&(_, t2)), None) = (own[..i].iter().any(|e| e.0 == b), back.next(), back.next()) else {
+            if i > 0 && own[i - 1].0 == b {
                 return None;
-            };
-            edges.push((b, t, t2));
+            }
+            let back = from(b);
+            let j = back.binary_search_by_key(&a, |e| e.0).ok()?;
+            // Equal keys sit side by side: the reverse must be alone.
+            if (j > 0 && back[j - 1].0 == a) || back.get(j + 1).is_some_and(|e| e.0 == a) {
+                return None;
+            }
+            edges.push((b, t, back[j].1));
         }
     }
     Some((first, edges))
@@ -263,17 +273,10 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: &ClosedEd
         return None;
     }
     // A vertex's neighbours: the ends of its directed edges (every edge's reverse is
-    // there too, so these are all of them, each once), sorted.
-    let (edge_first, edges) = closed;
-    let mut first = vec![0u32; n + 1];
-    let mut nbrs = Vec::with_capacity(edges.len());
-    for v in 0..n {
-        first[v] = nbrs.len() as u32;
-        let start = nbrs.len();
-        nbrs.extend(edges[edge_first[v] as usize..edge_first[v + 1] as usize].iter().map(|e| e.0));
-        nbrs[start..].sort_unstable();
-    }
-    first[n] = nbrs.len() as u32;
+    // there too, so these are all of them, each once), sorted as `closed_edges` left them.
+    let (first, edges) = closed;
+    let first = first.clone();
+    let nbrs: Vec<u32> = edges.iter().map(|e| e.0).collect();
     let mut hull = Hull {
         local_box: bounding_volume::details::local_point_cloud_aabb_ref(&vertices),
         points: vertices,
