@@ -105,6 +105,10 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         for (sh, p) in shapes.iter_mut().zip(postures.first().map_or(&[][..], |p| &p.poses)) {
             sh.placed.pose = *p;
         }
+        let unturned = |p: &parry3d_f64::math::Pose| p.rotation == parry3d_f64::math::Rotation::IDENTITY;
+        for (si, sh) in shapes.iter_mut().enumerate() {
+            sh.unturned = unturned(&sh.placed.pose) && postures.iter().all(|p| p.poses.get(si).is_none_or(unturned));
+        }
         let pose_flange_tcp = hand.map_or(Pose::identity(), |(h, _)| scn.hands[h.index()].pose_flange_tcp);
         let analytic = if opts.closed_form_ik { Analytic::detect(&chain) } else { None };
         let redundant = if opts.closed_form_ik && analytic.is_none() { Redundant::detect(&chain) } else { None };

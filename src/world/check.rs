@@ -24,7 +24,7 @@ use parry3d_f64::shape::{Cuboid, Shape};
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
-use super::shapes::{aabb_of, ball_meets_box, boxes_intersect, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
+use super::shapes::{aabb_of, ball_meets_box, boxes_intersect, place, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::RobotId;
@@ -255,7 +255,7 @@ pub(super) fn pose_body(m: &RobotModel, s: &mut Scratch, bi: usize) {
     }
     let b = &m.bodies[bi];
     for si in b.shapes.clone() {
-        let pose = s.link_pose[b.link] * *m.shape_pose(si, s.posture);
+        let pose = place(&s.link_pose[b.link], m.shape_pose(si, s.posture), m.shapes[si].unturned);
         s.shape_aabb[si] = moving_aabb(&m.shapes[si].placed, &pose);
         s.shape_pose[si] = pose;
     }

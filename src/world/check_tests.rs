@@ -238,3 +238,56 @@ fn a_ball_against_a_box_decides_as_parry_does_or_leaves_it_to_parry() {
     }
     assert!(decided > 10_000 && left > 100, "{decided} decided, {left} left to parry");
 }
+
+/// A shape flagged unturned is placed by turning its offset only: in every posture of
+/// every robot of the shipped examples (the grippers' fingers included) that must be the
+/// full product, value for value, wherever the link stands.
+#[test]
+fn unturned_shapes_are_placed_as_the_full_product() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // And a finger that turns through 26 postures (a hinge from 0 to 0.5 rad).
+    let hinge = std::env::temp_dir().join(format!("declutter-hinge-{}.dcl", std::process::id()));
+    let text = format!(
+        "scenario \"hinge\"\nhand hinge {{\n    urdf \"{}\"\n    tcp at (0, 0, 5cm)\n}}\nrobot arm {{\n    urdf \"{}\"\n    hand hinge\n    home [0, -20deg, 110deg, 0, 60deg, 0]\n    open [0]\n    closed [0.5]\n}}\nobject block box(2cm, 4cm, 4cm) at (60cm, 0, 2cm) {{\n    grasp top at (0, 0, 1cm) rot (180deg, 0, 0) approach 5cm\n}}\ntarget block\n",
+        root.join("tests/fixtures/grippers/hinge_hand.urdf").display(),
+        root.join("examples/robots/tx90.urdf").display()
+    );
+    std::fs::write(&hinge, text).expect("a temporary file");
+    let (mut flagged, mut turned) = (0, 0);
+    let names = ["box_lid", "gripper", "split_lid", "mesh_part", "three_arm", "reach_pose"];
+    for file in names.iter().map(|n| root.join(format!("examples/{n}.dcl"))).chain([hinge.clone()]) {
+        let name = file.display();
+        let mut sources = crate::diag::SourceMap::new();
+        let scn = crate::resolve::resolve(&file, &crate::diag::FsLoader, &mut sources)
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+        let w =
+            super::super::build(&scn, &super::super::WorldOptions::default(), &crate::diag::FsLoader).expect("builds");
+        for m in &w.robots {
+            for (si, sh) in m.shapes.iter().enumerate() {
+                flagged += usize::from(sh.unturned);
+                for posture in 0..m.postures.len().max(1) {
+                    let shape = m.shape_pose(si, posture);
+                    turned += usize::from(shape.rotation != Rotation::IDENTITY);
+                    let axis =
+                        PVec::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+                    let link = PPose::from_parts(
+                        PVec::new(rng.random(), rng.random(), rng.random()),
+                        Rotation::from_scaled_axis(axis * 6.0),
+                    );
+                    let (placed, product) = (place(&link, shape, sh.unturned), link * *shape);
+                    assert_eq!(placed.translation, product.translation, "{name}: {} shape {si}", m.name);
+                    // The same rotation, up to the sign of a zero (x + 0 · y).
+                    assert!(
+                        placed.rotation.to_array().iter().zip(product.rotation.to_array()).all(|(a, b)| a == &b),
+                        "{name}: {} shape {si}",
+                        m.name
+                    );
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_file(&hinge);
+    // Both kinds are there: the test is not vacuous either way.
+    assert!(flagged > 10 && turned > 10, "{flagged} flagged, {turned} turned in some posture");
+}

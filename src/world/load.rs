@@ -50,7 +50,7 @@ pub(super) fn push_body(
     }
     let start = shapes.len();
     let body = bodies.len();
-    shapes.extend(placed.into_iter().map(|placed| RShape { body, placed }));
+    shapes.extend(placed.into_iter().map(|placed| RShape { body, placed, unturned: false }));
     bodies.push(RBody { name: name.to_string(), link, shapes: start..shapes.len(), moving, holds });
 }
 

@@ -24,7 +24,7 @@ use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use super::chain::{Chain, Source};
 use super::proximity::shape_distance_below;
 use super::robot::RobotModel;
-use super::shapes::{to_ppose, Boxed, Placed};
+use super::shapes::{place, to_ppose, Boxed, Placed};
 use super::urdf::Motion;
 use super::OPEN_POSTURE as OPEN;
 
@@ -241,7 +241,7 @@ pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: 
         let link = to_ppose(&links[m.bodies[body].link]);
         posed[k].clear();
         posed[k].extend(m.bodies[body].shapes.clone().map(|si| {
-            let pose = link * *m.shape_pose(si, OPEN);
+            let pose = place(&link, m.shape_pose(si, OPEN), m.shapes[si].unturned);
             let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
             (si, pose, pose * centre, radius)
         }));

@@ -30,6 +30,9 @@ pub(crate) struct RBody {
 pub(crate) struct RShape {
     pub body: usize,
     pub placed: Placed,
+    /// Unturned on its link in every posture: placing it turns its offset only (see
+    /// [`super::shapes::place`]).
+    pub unturned: bool,
 }
 
 pub(crate) struct RobotModel {

@@ -285,6 +285,20 @@ pub(crate) fn to_ppose(iso: &Isometry3<f64>) -> PPose {
     PPose::from(*iso)
 }
 
+/// A shape's world pose, `link * shape`. Many shapes stand unturned on their link (a
+/// spherized arm's balls, meshes drawn in their link's frame): their rotation is then the
+/// link's own, and the quaternion product (by one, the same values) is left out.
+#[inline]
+pub(crate) fn place(link: &PPose, shape: &PPose, unturned: bool) -> PPose {
+    if unturned {
+        let mut pose = *link;
+        pose.translation = link.translation + link.rotation * shape.translation;
+        pose
+    } else {
+        *link * *shape
+    }
+}
+
 /// Loads mesh files once per build.
 pub(crate) struct MeshCache<'l> {
     pub loader: &'l dyn Loader,

@@ -18,7 +18,7 @@ use super::check;
 use super::robot::RobotModel;
 use super::scene::Owner;
 use super::self_pairs;
-use super::shapes::{aabb_of, to_ppose, Placed};
+use super::shapes::{aabb_of, place, to_ppose, Placed};
 use super::urdf::Motion;
 use super::{Held, World};
 use crate::resolve::{FixedId, ObjectId, RobotId};
@@ -151,7 +151,7 @@ impl World {
             let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
             let posed = |si: usize| {
                 let s = &m.shapes[si];
-                let pose = world[m.bodies[s.body].link] * *m.shape_pose(si, posture);
+                let pose = place(&world[m.bodies[s.body].link], m.shape_pose(si, posture), s.unturned);
                 let aabb =
                     if exact { aabb_of(&*s.placed.shape.0, &pose) } else { check::moving_aabb(&s.placed, &pose) };
                 (pose, aabb)
