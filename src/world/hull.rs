@@ -182,10 +182,11 @@ fn convex_mesh(points: &[PVec], triangles: &[[u32; 3]]) -> Option<(Vec<PVec>, Ve
 
 /// The hull of a mesh that is its own hull (most collision meshes are): its triangles over
 /// its distinct `vertices` (`remap` taking the mesh's indices to theirs) and their edges,
-/// without parry's quickhull, which was most of loading a mesh robot. `None` unless the mesh is closed, one piece of a sphere's topology, faces
-/// outwards, bends outwards at every edge and has no vertex off its triangles; then
-/// every vertex is on the hull and the triangles cover it. Otherwise the caller builds
-/// the hull.
+/// without parry's quickhull, which was most of loading a mesh robot. `None` unless the
+/// mesh is closed, one piece of a sphere's topology, faces outwards, bends outwards at
+/// every edge (once the few edges that bend in, if any, are flipped: see
+/// [`Bends::flip_outward`]) and has no vertex off its triangles; then every vertex is on
+/// the hull and the triangles cover it. Otherwise the caller builds the hull.
 fn convex_triangles(vertices: &[PVec], remap: &[u32], triangles: &[[u32; 3]]) -> Option<(Vec<[u32; 3]>, ClosedEdges)> {
     let mut tris = Vec::with_capacity(triangles.len());
     for t in triangles {
@@ -201,41 +202,133 @@ fn convex_triangles(vertices: &[PVec], remap: &[u32], triangles: &[[u32; 3]]) ->
     if v < 4 || f % 2 != 0 || v + f / 2 != 2 + f {
         return None;
     }
-    // Every directed edge once, and its reverse once in another triangle: closed,
-    // manifold, consistently wound.
-    let (first, edges) = closed_edges(v, &tris)?;
     let size = {
         let (lo, hi) = vertices.iter().fold((vertices[0], vertices[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         (hi - lo).length()
     };
-    for a in 0..v as u32 {
-        let own = &edges[first[a as usize] as usize..first[a as usize + 1] as usize];
-        // A vertex on no triangle may lie anywhere, inside the hull or out.
-        if own.is_empty() {
-            return None;
+    let bends = Bends { vertices, size };
+    match bends.convex(&tris)? {
+        Ok(edges) => Some((tris, edges)),
+        // A few edges bending in (under an eighth): cut the wrong way across a quad?
+        Err(inward) if inward * 8 <= f * 3 / 2 => {
+            bends.flip_outward(&mut tris)?;
+            let edges = bends.convex(&tris)?.ok()?;
+            Some((tris, edges))
         }
-        for &(b, t, t2) in own {
-            // The other triangle's third vertex must not lie outside this triangle's plane.
-            let [x, y, z] = tris[t as usize].map(|i| vertices[i as usize]);
-            let other = tris[t2 as usize].into_iter().find(|&i| i != a && i != b)?;
-            let n = (y - x).cross(z - x);
-            if n.dot(vertices[other as usize] - x) > 1e-9 * n.length() * size {
+        Err(_) => None,
+    }
+}
+
+/// Which way a closed surface bends at its edges.
+struct Bends<'v> {
+    vertices: &'v [PVec],
+    /// The vertices' extent: the flatness tolerance scales with it.
+    size: f64,
+}
+
+/// Edge flips a surface may take to become convex, per edge.
+const FLIPS_PER_EDGE: usize = 4;
+
+impl Bends<'_> {
+    /// Whether, across edge `a -> b` of triangle `t`, the corner `across` of the other
+    /// triangle lies outside `t`'s plane: the surface bends inwards there.
+    fn bends_in(&self, t: [u32; 3], across: u32) -> bool {
+        let [x, y, z] = t.map(|i| self.vertices[i as usize]);
+        let n = (y - x).cross(z - x);
+        n.dot(self.vertices[across as usize] - x) > 1e-9 * n.length() * self.size
+    }
+
+    /// The surface's edges when it is closed, covers every vertex, bends outwards at every
+    /// edge and encloses a positive volume; `Err` with the number of edges bending inwards
+    /// when that is all that is wrong; `None` otherwise.
+    fn convex(&self, tris: &[[u32; 3]]) -> Option<Result<ClosedEdges, usize>> {
+        let v = self.vertices.len();
+        // Every directed edge once, and its reverse once in another triangle: closed,
+        // manifold, consistently wound.
+        let (first, edges) = closed_edges(v, tris)?;
+        let mut inward = 0;
+        for a in 0..v as u32 {
+            let own = &edges[first[a as usize] as usize..first[a as usize + 1] as usize];
+            // A vertex on no triangle may lie anywhere, inside the hull or out.
+            if own.is_empty() {
                 return None;
             }
+            for &(b, t, t2) in own {
+                // The other triangle's third vertex must not lie outside this triangle's plane.
+                let other = tris[t2 as usize].into_iter().find(|&i| i != a && i != b)?;
+                if a < b && self.bends_in(tris[t as usize], other) {
+                    inward += 1;
+                }
+            }
         }
+        if inward > 0 {
+            return Some(Err(inward));
+        }
+        // Outward: the triangles enclose a positive volume (six times it, from the origin).
+        let volume: f64 = tris
+            .iter()
+            .map(|t| {
+                let [x, y, z] = t.map(|i| self.vertices[i as usize]);
+                x.dot(y.cross(z))
+            })
+            .sum();
+        if volume.is_nan() || volume <= 0.0 {
+            return None;
+        }
+        Some(Ok((first, edges)))
     }
-    // Outward: the triangles enclose a positive volume (six times it, from the origin).
-    let volume: f64 = tris
-        .iter()
-        .map(|t| {
-            let [x, y, z] = t.map(|i| vertices[i as usize]);
-            x.dot(y.cross(z))
-        })
-        .sum();
-    if volume.is_nan() || volume <= 0.0 {
-        return None;
+
+    /// Flips each edge that bends inwards to the other diagonal of the quad its two
+    /// triangles make, until none does (Lawson's flips; the edges around a flipped one are
+    /// looked at again). Exporters often cut a quad whose corners are not quite in one
+    /// plane along the diagonal that bends in: the Panda's collision meshes have 2 to 25
+    /// such edges, up to a millimetre deep, every vertex on the hull. `None` when a flip
+    /// would make an edge that is already there, or after [`FLIPS_PER_EDGE`] flips per
+    /// edge; whatever the flips leave, [`Bends::convex`] decides.
+    fn flip_outward(&self, tris: &mut [[u32; 3]]) -> Option<()> {
+        // Per vertex, its directed edges out (second vertex, triangle): a handful each.
+        let mut out: Vec<Vec<(u32, u32)>> = vec![Vec::with_capacity(8); self.vertices.len()];
+        for (i, t) in tris.iter().enumerate() {
+            for k in 0..3 {
+                out[t[k] as usize].push((t[(k + 1) % 3], i as u32));
+            }
+        }
+        let owner = |out: &[Vec<(u32, u32)>], a: u32, b: u32| out[a as usize].iter().find(|e| e.0 == b).map(|e| e.1);
+        let set =
+            |out: &mut [Vec<(u32, u32)>], a: u32, b: u32, t: u32| match out[a as usize].iter_mut().find(|e| e.0 == b) {
+                Some(e) => e.1 = t,
+                None => out[a as usize].push((b, t)),
+            };
+        let unset = |out: &mut [Vec<(u32, u32)>], a: u32, b: u32| out[a as usize].retain(|e| e.0 != b);
+        let mut todo: Vec<(u32, u32)> = (0..out.len() as u32)
+            .flat_map(|a| out[a as usize].iter().filter(move |e| a < e.0).map(move |e| (a, e.0)))
+            .collect();
+        todo.reverse();
+        let third = |t: [u32; 3], a: u32, b: u32| t.into_iter().find(|&i| i != a && i != b);
+        let mut budget = FLIPS_PER_EDGE * todo.len();
+        while let Some((a, b)) = todo.pop() {
+            let (Some(t), Some(t2)) = (owner(&out, a, b), owner(&out, b, a)) else { continue };
+            let (c, d) = (third(tris[t as usize], a, b)?, third(tris[t2 as usize], a, b)?);
+            if !self.bends_in(tris[t as usize], d) {
+                continue;
+            }
+            budget = budget.checked_sub(1)?;
+            if c == d || owner(&out, c, d).is_some() || owner(&out, d, c).is_some() {
+                return None;
+            }
+            // `t` is (a, b, c) and `t2` (b, a, d), turned; the quad a-d-b-c is cut along
+            // c-d instead, each new triangle wound as the old ones.
+            tris[t as usize] = [a, d, c];
+            tris[t2 as usize] = [d, b, c];
+            unset(&mut out, a, b);
+            unset(&mut out, b, a);
+            for (x, y, tri) in [(a, d, t), (d, c, t), (c, a, t), (d, b, t2), (b, c, t2), (c, d, t2)] {
+                set(&mut out, x, y, tri);
+            }
+            todo.extend([(a, d), (d, b), (b, c), (c, a)].map(|(x, y)| (x.min(y), x.max(y))));
+        }
+        Some(())
     }
-    Some((tris, (first, edges)))
 }
 
 /// The directed edges `a -> b` of the triangles grouped by `a`, each with its triangle:

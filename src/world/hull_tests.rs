@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 use parry3d_f64::query;
-use parry3d_f64::shape::{Shape, SharedShape};
+use parry3d_f64::shape::{Shape, SharedShape, SupportMap};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -296,4 +296,54 @@ fn a_climb_leaves_a_flat_face_it_stands_inside() {
     for d in [PVec::ZERO, PVec::splat(f64::NAN), PVec::new(f64::INFINITY, 1.0, 0.0)] {
         assert!(h.support_index(d) < pts.len(), "{d:?}");
     }
+}
+
+/// A cube whose corner `(1, 1, 1)` is raised by 0.1 (corner 6), its top cut along the
+/// diagonal 5-7 that does not reach that corner: the top bends inwards there, as an
+/// exporter's quad cut the wrong way does.
+fn cube_cut_along_a_valley(corner6: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
+    let mut points: Vec<PVec> =
+        [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
+            .iter()
+            .map(|&(x, y, z)| PVec::new(x as f64, y as f64, z as f64))
+            .collect();
+    points[6] = corner6;
+    // Bottom, top (cut along 5-7), front, back, left, right; each wound outwards.
+    let triangles = vec![
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 7],
+        [5, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 3, 7],
+        [2, 7, 6],
+        [0, 4, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 5],
+    ];
+    (points, triangles)
+}
+
+#[test]
+fn a_quad_cut_along_its_valley_is_flipped_to_its_ridge() {
+    let (points, triangles) = cube_cut_along_a_valley(PVec::new(1.0, 1.0, 1.1));
+    let (vertices, tris) = as_convex_mesh(&points, &triangles).expect("convex once flipped");
+    assert_eq!((vertices.len(), tris.len()), (8, 12));
+    let has = |a: u32, b: u32| tris.iter().any(|t| t.contains(&a) && t.contains(&b));
+    assert!(has(4, 6) && !has(5, 7), "the top is cut along 4-6 now: {tris:?}");
+    // The same solid as parry's hull of the points.
+    let shape = mesh_hull(&points, &triangles).expect("a hull");
+    let parry = SharedShape::convex_hull(&points).expect("parry's hull");
+    for d in awkward_dirs() {
+        let (ours, theirs) =
+            (hull_of(&shape).local_support_point(d), parry.as_support_map().expect("convex").local_support_point(d));
+        assert!(ours.dot(d) >= theirs.dot(d) - 1e-12 && theirs.dot(d) >= ours.dot(d) - 1e-12, "{d:?}");
+    }
+    // A corner pushed inside the others' hull (below the plane x + y + z = 1 of corners 2,
+    // 5 and 7) cannot be flipped onto it: quickhull decides, and drops it.
+    let (dented, triangles) = cube_cut_along_a_valley(PVec::new(0.2, 0.2, 0.2));
+    assert!(as_convex_mesh(&dented, &triangles).is_none(), "dented");
+    assert_eq!(hull_of(&mesh_hull(&dented, &triangles).expect("a hull")).points().len(), 7);
 }
