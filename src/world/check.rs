@@ -65,9 +65,27 @@ impl CheckCtx {
 }
 
 /// True when the shapes overlap deeper than the tolerance.
+#[cfg(test)]
+fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
+    collide_from(p1, s1, p2, s2, &mut no_start())
+}
+
+/// No separating direction known (see [`collide_from`]): GJK starts where parry's would.
 #[inline]
-pub(crate) fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
-    let meet = match gjk_meet(p1, s1, p2, s2) {
+fn no_start() -> PVec {
+    PVec::ZERO
+}
+
+/// [`collide`], GJK started along `dir` (in `s1`'s frame) unless it is zero, and `dir`
+/// left at the separating direction GJK ends with when the shapes are apart. A planner's
+/// checks along a motion ask of each pair nearly the same question again, and the last
+/// separating direction usually separates again at once. The verdict does not depend on
+/// where GJK starts: apart means a separating plane was found; an overlap it finds is
+/// proved deep by its simplex or measured by EPA, and one within GJK's tolerance of
+/// touching, whichever GJK says of it, is not deeper than the contact tolerance.
+#[inline]
+fn collide_from(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, dir: &mut PVec) -> bool {
+    let meet = match gjk_meet(p1, s1, p2, s2, dir) {
         Some(m) => m,
         None => match query::intersection_test(p1, s1, p2, s2) {
             Ok(i) if !i.intersecting => Meet::Apart,
@@ -103,7 +121,7 @@ enum Meet {
 /// inside each of its faces, no move shorter than that separates the shapes, and the
 /// overlap is deeper than the tolerance without EPA (most overlaps of a mesh arm's
 /// self-collision samples are centimetres deep).
-fn gjk_meet(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> Option<Meet> {
+fn gjk_meet(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, dir: &mut PVec) -> Option<Meet> {
     let other = |s: &dyn Shape| s.as_ball().is_some() || s.as_triangle().is_some();
     if other(s1) || other(s2) || (s1.as_cuboid().is_some() && s2.as_cuboid().is_some()) {
         return None;
@@ -111,8 +129,12 @@ fn gjk_meet(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> Option<Me
     let (g1, g2) = (s1.as_support_map()?, s2.as_support_map()?);
     let mut simplex = VoronoiSimplex::new();
     let pos12 = p1.inv_mul(p2);
-    let (hit, _) =
-        query::details::intersection_test_support_map_support_map_with_params(&pos12, g1, g2, &mut simplex, None);
+    let start = (*dir != PVec::ZERO).then_some(*dir);
+    let (hit, apart) =
+        query::details::intersection_test_support_map_support_map_with_params(&pos12, g1, g2, &mut simplex, start);
+    if !hit {
+        *dir = apart;
+    }
     Some(match hit {
         false => Meet::Apart,
         true if origin_deep_in(&simplex, DEEP) => Meet::Deep,
@@ -163,7 +185,7 @@ fn surely_deeper(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool
 /// Collision of a moving shape (robot or carried) with another: by its eroded
 /// primitive when it has one (one intersection test), else by contact depth.
 #[inline]
-fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2: &Obb) -> bool {
+fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2: &Obb, dir: &mut PVec) -> bool {
     if !moving.eroded_obb.as_ref().unwrap_or(&moving.obb).may_touch(p1, obb2, p2) {
         return false;
     }
@@ -172,7 +194,7 @@ fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2:
             (Some(c1), Some(c2)) => boxes_intersect(c1.half_extents, c2.half_extents, &p1.inv_mul(p2)),
             _ => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
         },
-        None => collide(p1, &*moving.shape.0, p2, s2),
+        None => collide_from(p1, &*moving.shape.0, p2, s2, dir),
     }
 }
 
@@ -192,6 +214,13 @@ pub(super) struct Scratch {
     held_aabb: Vec<Aabb>,
     /// The self-collision grids' measurements (see `pair_grid`).
     grid: Measure,
+    /// Per robot shape and scene entry (`shape * entries + entry`), the direction that last
+    /// separated them (see [`collide_from`]); zero when none yet. Left from whatever robot
+    /// or world the thread checked before, it is only a start: verdicts do not depend on it.
+    separating: Vec<PVec>,
+    /// The same per pair of the robot's own shapes (`first * shapes + second`, in the
+    /// order [`bodies_collide`] tests them).
+    self_separating: Vec<PVec>,
 }
 
 thread_local! {
@@ -319,6 +348,11 @@ fn check_posed(
     let mut labels = ObjectSet::new();
     if robot_part {
         // Robot bodies against the static scene.
+        let entries = m.scene.entries.len();
+        if s.separating.len() != m.shapes.len() * entries {
+            s.separating.clear();
+            s.separating.resize(m.shapes.len() * entries, PVec::ZERO);
+        }
         for (bi, b) in m.bodies.iter().enumerate() {
             if !b.moving {
                 continue;
@@ -340,7 +374,10 @@ fn check_posed(
                             .and_then(|r| {
                                 ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents)
                             })
-                            .unwrap_or_else(|| collide_moving(&s.shape_pose[si], placed, &e.pose, &*e.shape.0, &e.obb))
+                            .unwrap_or_else(|| {
+                                let dir = &mut s.separating[si * entries + leaf as usize];
+                                collide_moving(&s.shape_pose[si], placed, &e.pose, &*e.shape.0, &e.obb, dir)
+                            })
                 });
                 if hit {
                     match e.owner {
@@ -406,7 +443,7 @@ fn check_posed(
                         continue;
                     }
                 }
-                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0, &e.obb) {
+                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0, &e.obb, &mut no_start()) {
                     continue;
                 }
                 match e.owner {
@@ -428,7 +465,7 @@ fn check_posed(
                 pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
                     let other = &m.shapes[si].placed;
-                    collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*other.shape.0, &other.obb)
+                    collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*other.shape.0, &other.obb, &mut no_start())
                 });
                 if hit {
                     return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
@@ -439,15 +476,22 @@ fn check_posed(
     Check::Touches(labels)
 }
 
-pub(super) fn bodies_collide(m: &RobotModel, s: &Scratch, a: usize, b: usize) -> bool {
+pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize) -> bool {
+    let n = m.shapes.len();
+    if s.self_separating.len() != n * n {
+        s.self_separating.clear();
+        s.self_separating.resize(n * n, PVec::ZERO);
+    }
     m.bodies[a].shapes.clone().any(|i| {
         m.bodies[b].shapes.clone().any(|j| {
             let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
                 && if pa.eroded.is_some() || pb.eroded.is_none() {
-                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0, &pb.obb)
+                    let dir = &mut s.self_separating[i * n + j];
+                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0, &pb.obb, dir)
                 } else {
-                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0, &pa.obb)
+                    let dir = &mut s.self_separating[j * n + i];
+                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0, &pa.obb, dir)
                 }
         })
     })

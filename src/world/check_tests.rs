@@ -57,6 +57,9 @@ fn a_hull_pressed_into_a_box_face_by_hand() {
 fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as_depth_does() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (mut proved, mut measured) = (0, 0);
+    // GJK started from the last pair's separating direction, or from a random one (drawn
+    // from a stream of their own): the verdict is the same (see `collide_from`).
+    let (mut stale, mut dirs) = (PVec::ZERO, ChaCha8Rng::seed_from_u64(111));
     for _ in 0..20_000 {
         let pts: Vec<PVec> = (0..12).map(|_| PVec::new(rng.random(), rng.random(), rng.random()) * 0.1).collect();
         let hull = SharedShape::convex_hull(&pts).expect("a hull of random points");
@@ -78,7 +81,11 @@ fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as
         let anywhere = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.3;
         let pose = PPose::from_parts(if rng.random::<bool>() { pressed } else { anywhere }, turn);
         let (h, id) = (&*hull.0, PPose::IDENTITY);
-        assert_eq!(collide(&pose, h, &id, &block), by_depth(&pose, h, &id, &block), "{pose:?} {half:?}");
+        let truth = by_depth(&pose, h, &id, &block);
+        assert_eq!(collide(&pose, h, &id, &block), truth, "{pose:?} {half:?}");
+        assert_eq!(collide_from(&pose, h, &id, &block, &mut stale), truth, "{pose:?} {half:?} from {stale:?}");
+        let mut random = PVec::new(dirs.random::<f64>() - 0.5, dirs.random::<f64>() - 0.5, dirs.random::<f64>() - 0.5);
+        assert_eq!(collide_from(&pose, h, &id, &block, &mut random), truth, "{pose:?} {half:?} from {random:?}");
         if surely_deeper(&pose, h, &id, &block) {
             proved += 1;
             let depth = -query::contact(&pose, h, &id, &block, 0.0).expect("convex").expect("touching").dist;
@@ -100,6 +107,7 @@ fn overlaps_proved_deep_by_gjks_simplex_are_deep_by_epa_and_collide_answers_as_d
     let cloud = |rng: &mut ChaCha8Rng| -> Vec<PVec> {
         (0..12).map(|_| PVec::new(rng.random(), rng.random(), rng.random()) * 0.1).collect()
     };
+    let mut stale = PVec::ZERO;
     for k in 0..20_000 {
         let a = SharedShape::convex_hull(&cloud(&mut rng)).expect("a hull of random points");
         let b = match k % 2 {
@@ -132,8 +140,10 @@ fn overlaps_proved_deep_by_gjks_simplex_are_deep_by_epa_and_collide_answers_as_d
         }
         let id = PPose::IDENTITY;
         let (sa, sb) = (&*a.0, &*b.0);
-        assert_eq!(collide(&id, sa, &pose, sb), by_depth(&id, sa, &pose, sb), "{pose:?}");
-        match gjk_meet(&id, sa, &pose, sb).expect("two shapes GJK tests") {
+        let truth = by_depth(&id, sa, &pose, sb);
+        assert_eq!(collide(&id, sa, &pose, sb), truth, "{pose:?}");
+        assert_eq!(collide_from(&id, sa, &pose, sb, &mut stale), truth, "{pose:?} from {stale:?}");
+        match gjk_meet(&id, sa, &pose, sb, &mut no_start()).expect("two shapes GJK tests") {
             Meet::Deep => {
                 proved += 1;
                 let depth = -query::contact(&id, sa, &pose, sb, 0.0).expect("convex").expect("touching").dist;

@@ -74,7 +74,7 @@ pub(crate) fn self_pairs(
             if !near[k] && s.body_aabb[a].loosened(NEAR_MARGIN).intersects(&s.body_aabb[b]) {
                 near[k] = true;
             }
-            if !(s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &s, a, b)) {
+            if !(s.body_aabb[a].intersects(&s.body_aabb[b]) && bodies_collide(m, &mut s, a, b)) {
                 misses[k] += 1;
             }
         }
