@@ -47,6 +47,19 @@ pub fn distance_at_least_from(
     tol: f64,
     start: &mut GjkStart,
 ) -> Option<f64> {
+    distance_at_least_below(p1, s1, p2, s2, (tol, f64::INFINITY), start)
+}
+
+/// [`distance_at_least_from`] where only a distance below `limit` matters: the search
+/// also stops once its bound reaches `limit` (the shapes are at least that far apart).
+pub fn distance_at_least_below(
+    p1: &PPose,
+    s1: &dyn Shape,
+    p2: &PPose,
+    s2: &dyn Shape,
+    (tol, limit): (f64, f64),
+    start: &mut GjkStart,
+) -> Option<f64> {
     if in_closed_form(s1, s2) {
         return shape_distance(p1, s1, p2, s2);
     }
@@ -83,7 +96,7 @@ pub fn distance_at_least_from(
         let n = -nearest / upper;
         let s = CsoPoint::from_shapes(&pos12, a, b, n);
         lower = lower.max(-n.dot(s.point));
-        if upper <= lower + tol || !simplex.add_point(s) {
+        if upper <= lower + tol || lower >= limit || !simplex.add_point(s) {
             break;
         }
     }

@@ -5,15 +5,19 @@
 //! closer than a centimetre.
 //!
 //! Such a pair's distance depends on those joints only, so a grid over them can hold it:
-//! each cell remembers the distance at its centre `c`. A joint turned by `δ` moves the
+//! each cell remembers a lower bound `d(c)` on the distance at its centre `c` (within 10 µm
+//! of it, from GJK's dual bound). A joint turned by `δ` moves the
 //! body beyond it by at most `ρ·|δ|`, `ρ` the body's reach from the joint's axis (a sum of
 //! the chain's fixed lengths, so valid whatever the other joints do). So at `q` the pair
 //! is at least `d(c) − Σ ρ_i |q_i − c_i|` apart: when that is positive the exact test
 //! would say "free", and is skipped. Anything nearer goes to the exact test, so verdicts
 //! never change (`tests/fast_check.rs` compares both on 100 000 configurations per robot).
 //!
-//! Cells are measured when first visited, by whichever thread comes first: the value is a
-//! function of the cell alone, so a race only measures it twice.
+//! Cells are measured when first visited, by whichever thread comes first, GJK starting
+//! from that thread's last simplex for the pair: the value may differ in its last
+//! micrometres with the thread, but it is a lower bound either way and decides only
+//! whether the exact test runs, so verdicts do not depend on it (a race only measures a
+//! cell twice).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
@@ -22,7 +26,7 @@ use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 
 use super::chain::{Chain, Source};
-use super::proximity::shape_distance_below;
+use super::lower_bound::{distance_at_least_below, GjkStart, LOWER_BOUND_TOLERANCE};
 use super::robot::RobotModel;
 use super::shapes::{place, to_ppose, Boxed, Placed};
 use super::urdf::Motion;
@@ -127,7 +131,7 @@ impl PairGrid {
 
     /// True when the pair is provably apart at `q`. `measure` gets `q` with the grid's
     /// joints at a cell's centre and returns a lower bound on the pair's distance there,
-    /// exact below the second argument (`None`: cannot say).
+    /// within the tolerance of it below the second argument (`None`: cannot say).
     #[inline]
     pub fn apart(&self, q: &[f64], measure: impl FnOnce(&[(usize, f64)], f64) -> Option<f64>) -> bool {
         let mut cell = 0;
@@ -226,15 +230,20 @@ pub(crate) struct Measure {
     links: Vec<Isometry3<f64>>,
     /// Per body: each shape's index, pose, bounding sphere's centre and radius.
     posed: [Vec<(usize, PPose, PVec, f64)>; 2],
+    /// Per pair of shapes measured by GJK, the simplex it ended with: the cells a planner
+    /// visits along a motion are next to each other, and GJK from the last one's simplex
+    /// ends in a step or two (the bound holds from any start).
+    starts: std::collections::HashMap<(usize, usize), GjkStart>,
 }
 
-/// A lower bound on the distance between bodies `a` and `b` (fingers open) at `s.q`, exact
-/// (GJK) where it is below `enough`. `None` when a pair of their shapes cannot be
+/// A lower bound on the distance between bodies `a` and `b` (fingers open) at `s.q`, within
+/// [`LOWER_BOUND_TOLERANCE`] of it where it is below `enough` (GJK's dual bound, which is
+/// all a grid needs: see [`PairGrid::apart`]). `None` when a pair of their shapes cannot be
 /// measured. Each pair of shapes is first bounded by its bounding spheres and, when those
 /// are nearer than `enough` and than the nearest pair so far, by its bounding boxes, and
 /// only then measured.
 pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: &mut Measure) -> Option<f64> {
-    let Measure { q, links, posed } = s;
+    let Measure { q, links, posed, starts } = s;
     links.resize(m.chain.links.len(), Isometry3::identity());
     m.chain.fk_upto(q, m.bodies[a].link.max(m.bodies[b].link), links);
     for (k, body) in [a, b].into_iter().enumerate() {
@@ -261,7 +270,9 @@ pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: 
             gap = gap.max(pa.obb.gap(pi, &pb.obb, pj));
             if gap < best.min(enough) {
                 // Beyond the least so far or `enough`, any value past it will do.
-                gap = shape_distance_below(pi, &*pa.shape.0, pj, &*pb.shape.0, best.min(enough))?;
+                let start = starts.entry((*si, *sj)).or_default();
+                let within = (LOWER_BOUND_TOLERANCE, best.min(enough));
+                gap = distance_at_least_below(pi, &*pa.shape.0, pj, &*pb.shape.0, within, start)?;
             }
             best = best.min(gap);
         }

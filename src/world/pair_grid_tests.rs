@@ -8,6 +8,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::{body_distance, Measure};
 use crate::diag::{FsLoader, SourceMap};
+use crate::world::lower_bound::LOWER_BOUND_TOLERANCE;
 use crate::world::proximity::shape_distance;
 use crate::world::shapes::Obb;
 use crate::world::{build, World, WorldOptions};
@@ -21,7 +22,7 @@ fn example(name: &str) -> World {
 #[test]
 fn a_pairs_distance_moves_no_faster_than_its_reach_allows() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let mut grids = 0;
+    let (mut grids, mut measured) = (0, 0);
     for name in ["box_lid", "gripper"] {
         let w = example(name);
         for m in &w.robots {
@@ -41,11 +42,23 @@ fn a_pairs_distance_moves_no_faster_than_its_reach_allows() {
                     }
                     s.q = q;
                     let d0 = body_distance(m, a, b, f64::INFINITY, &mut s).expect("convex shapes");
+                    // A lower bound within GJK's dual bound's tolerance of the distance.
+                    let exact = s.posed[0]
+                        .iter()
+                        .flat_map(|(i, pi, _, _)| s.posed[1].iter().map(move |(j, pj, _, _)| (*i, *pi, *j, *pj)))
+                        .map(|(i, pi, j, pj)| {
+                            let (si, sj) = (&*m.shapes[i].placed.shape.0, &*m.shapes[j].placed.shape.0);
+                            shape_distance(&pi, si, &pj, sj).expect("convex")
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(d0 <= exact + 1e-9 && d0 >= exact - LOWER_BOUND_TOLERANCE - 1e-9, "{d0} against {exact}");
+                    measured += usize::from(exact > 0.0);
                     s.q = moved;
                     let d1 = body_distance(m, a, b, f64::INFINITY, &mut s).expect("convex shapes");
                     let change = (d1 - d0).abs();
+                    // Each measure within the tolerance below the distance.
                     assert!(
-                        change <= bound + 1e-7,
+                        change <= bound + LOWER_BOUND_TOLERANCE + 1e-7,
                         "{name} {}-{}: {change} > {bound}",
                         m.bodies[a].name,
                         m.bodies[b].name
@@ -64,7 +77,7 @@ fn a_pairs_distance_moves_no_faster_than_its_reach_allows() {
             }
         }
     }
-    assert!(grids >= 8, "only {grids} pairs have grids");
+    assert!(grids >= 8 && measured > 1000, "only {grids} pairs have grids, {measured} measured apart");
 }
 
 #[test]

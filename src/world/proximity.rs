@@ -7,9 +7,8 @@
 use std::cell::RefCell;
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
-use parry3d_f64::math::{Pose as PPose, Vector as PVec};
+use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::query;
-use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::Shape;
 
 use super::shapes::Obb;
@@ -83,30 +82,6 @@ pub fn shape_distance(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) ->
         return Some(query::details::distance_support_map_support_map(&p1.inv_mul(p2), a, b));
     }
     query::distance(p1, s1, p2, s2).ok().map(|d| d.distance)
-}
-
-/// [`shape_distance`] where only a distance below `limit` matters: the same value when
-/// it is below `limit` (GJK takes the same steps until then), else at least `limit`
-/// (GJK stops once its lower bound passes `limit`: the shapes are that far apart).
-pub fn shape_distance_below(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, limit: f64) -> Option<f64> {
-    if in_closed_form(s1, s2) {
-        return shape_distance(p1, s1, p2, s2);
-    }
-    let (Some(a), Some(b)) = (s1.as_support_map(), s2.as_support_map()) else {
-        return shape_distance(p1, s1, p2, s2);
-    };
-    // As parry's `distance_support_map_support_map`, with `limit` for its `max_dist`.
-    let pos12 = p1.inv_mul(p2);
-    let dir = -pos12.translation;
-    let eps = parry3d_f64::math::DEFAULT_EPSILON;
-    let dir = if dir.length_squared() > eps * eps { dir.normalize() } else { PVec::X };
-    let mut simplex = VoronoiSimplex::new();
-    simplex.reset(CsoPoint::from_shapes(&pos12, a, b, dir));
-    Some(match gjk::closest_points(&pos12, a, b, limit, true, &mut simplex) {
-        GJKResult::ClosestPoints(x, y, _) => (x - y).length(),
-        GJKResult::NoIntersection(_) => limit,
-        GJKResult::Intersection | GJKResult::Proximity(_) => 0.0,
-    })
 }
 
 /// Whether [`shape_distance`] measures the pair in closed form (balls against balls and
@@ -296,41 +271,6 @@ mod tests {
                 for b in shapes {
                     let (lb, gjk) = (turned_boxes_gap(&p1, a, &p2, b), by_gjk(&p1, a, &p2, b));
                     prop_assert!(lb >= 0.0 && lb <= gjk + 1e-12, "gap {} over GJK {}", lb, gjk);
-                }
-            }
-        }
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(2000))]
-        /// Below its limit, `shape_distance_below` is `shape_distance` to the bit; at or
-        /// past it, a value between the limit and the distance.
-        #[test]
-        fn a_distance_below_a_limit_is_the_distance_and_past_it_a_lower_bound(
-            t in (-0.6f64..0.6, -0.6f64..0.6, -0.6f64..0.6),
-            axis in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
-            angle in -3.2f64..3.2,
-            limit in 0.0f64..0.4,
-            seed in 0u64..1_000_000,
-        ) {
-            let a = Vector::new(axis.0, axis.1, axis.2);
-            let turn = parry3d_f64::math::Rotation::from_axis_angle(if a.length() > 1e-3 { a.normalize() } else { Vector::X }, angle);
-            let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed);
-            let mut cloud = || -> Vec<Vector> {
-                (0..16)
-                    .map(|_| Vector::new(rand::RngExt::random(&mut rng), rand::RngExt::random(&mut rng), rand::RngExt::random(&mut rng)) * 0.2)
-                    .collect()
-            };
-            let (h1, h2) = (SharedShape::convex_hull(&cloud()).expect("a hull"), SharedShape::convex_hull(&cloud()).expect("a hull"));
-            let cylinder = parry3d_f64::shape::Cylinder::new(0.1, 0.05);
-            let (p1, p2) = (PPose::from_parts(Vector::new(t.0, t.1, t.2), turn), PPose::IDENTITY);
-            for (s1, s2) in [(&*h1.0, &*h2.0), (&*h1.0, &cylinder as &dyn Shape)] {
-                let d = shape_distance(&p1, s1, &p2, s2).expect("convex");
-                let below = shape_distance_below(&p1, s1, &p2, s2, limit).expect("convex");
-                if d < limit {
-                    prop_assert_eq!(below.to_bits(), d.to_bits());
-                } else {
-                    prop_assert!(below >= limit && below <= d, "{} with the limit {} and the distance {}", below, limit, d);
                 }
             }
         }
