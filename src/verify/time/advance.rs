@@ -108,6 +108,9 @@ pub(super) struct Memory {
     /// per ball (measuring a ball is cheaper than queueing it). Any other shape is a unit
     /// of its own: measuring it is dear, and its own bound spares it more often.
     units: Vec<Vec<Unit>>,
+    /// Per robot and unit: its shapes' box at the instant numbered, taken when first asked
+    /// for there (a unit of balls is in many pairs, each asking for its box).
+    unit_box: Vec<Vec<(u64, Aabb)>>,
     /// Every pair whose movers move, by the instant its bound runs out on this stretch (its
     /// *expiry*, slack plus odometer at the measure, reached at the movers' speed), least
     /// first: one queue for all movers, since on one stretch every odometer grows at a
@@ -356,10 +359,21 @@ impl Cell<'_> {
     }
 
     /// The box around one side of a pair.
-    fn aabb(&self, s: &Scratch, units: &[Vec<Unit>], t: Thing) -> Aabb {
-        let mut parts = self.parts(s, units, t);
-        let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
-        parts.fold(first, |b, p| b.merged(p.aabb))
+    fn aabb(&self, s: &Scratch, memory: &mut Memory, t: Thing) -> Aabb {
+        let around = |memory: &Memory| {
+            let mut parts = self.parts(s, &memory.units, t);
+            let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
+            parts.fold(first, |b, p| b.merged(p.aabb))
+        };
+        // (`list_pairs` sizes the boxes with the units.)
+        let Thing::Unit(r, u) = t else { return around(memory) };
+        let (at, aabb) = memory.unit_box[r][u];
+        if at == memory.instant {
+            return aabb;
+        }
+        let aabb = around(memory);
+        memory.unit_box[r][u] = (memory.instant, aabb);
+        aabb
     }
 
     /// Pair `k`'s bound on its free time: its last slack less the odometer since, or its
@@ -379,8 +393,9 @@ impl Cell<'_> {
         if let Some((then, odometer)) = memory.measured[k] {
             (then - (now - odometer)) / speed
         } else {
-            let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
-            let slack = gap - p.must;
+            let (a, b, must) = (p.a, p.b, p.must);
+            let gap = aabb_gap(&self.aabb(s, memory, a), &self.aabb(s, memory, b));
+            let slack = gap - must;
             memory.measured[k] = Some((slack, now));
             slack / speed
         }
@@ -393,10 +408,11 @@ impl Cell<'_> {
     /// (or gap) of its shape pairs.
     fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
         let now = memory.odometer(memory.pairs[k].movers);
+        let (side_a, side_b) = (memory.pairs[k].a, memory.pairs[k].b);
+        let gap = aabb_gap(&self.aabb(s, memory, side_a), &self.aabb(s, memory, side_b));
         let p = &memory.pairs[k];
         let (a, b) = (self.parts(s, &memory.units, p.a), self.parts(s, &memory.units, p.b));
         let (speed, must) = (memory.speed[p.movers], p.must);
-        let gap = aabb_gap(&self.aabb(s, &memory.units, p.a), &self.aabb(s, &memory.units, p.b));
         if (gap - must) / speed >= *free {
             // The gap is no more than the pair's slack now; keep the tighter bound.
             let stale = memory.measured[k].map_or(f64::NEG_INFINITY, |(then, at)| then - (now - at));

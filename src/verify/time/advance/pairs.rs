@@ -1,6 +1,8 @@
 //! The pairs the replay bounds: every pair the contact check looks at, each with whose
 //! joints can move its two sides apart.
 
+use parry3d_f64::bounding_volume::Aabb;
+
 use super::{Memory, Movers, Pair, Thing, Unit};
 use crate::verify::time::scene::{Cell, RobotAt, RobotGeo, Scratch};
 use crate::world::{GjkStart, ObjectSet, StaticOwner};
@@ -45,6 +47,7 @@ impl Cell<'_> {
                 units
             })
             .collect();
+        memory.unit_box = memory.units.iter().map(|us| vec![(0, Aabb::new_invalid()); us.len()]).collect();
         let (pairs, movers, memory_reach) = (&mut memory.pairs, &mut memory.movers, &memory.reach);
         let units = &memory.units;
         pairs.clear();
