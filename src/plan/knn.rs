@@ -15,6 +15,8 @@ pub(crate) struct KdTree {
     offset: u32,
     /// Point indices, arranged as an implicit balanced tree (median at the middle).
     order: Vec<u32>,
+    /// Per position that is a subtree's median, the axis that subtree is split on.
+    axes: Vec<u8>,
 }
 
 /// Subtrees of at most this many points are scanned, not split further.
@@ -91,10 +93,11 @@ impl KdTree {
     /// Builds over all of `pts` (flat), reporting point `i` as `offset + i`.
     fn build_run(dim: usize, pts: Vec<f64>, offset: u32) -> KdTree {
         let mut order: Vec<u32> = (0..(pts.len() / dim.max(1)) as u32).collect();
-        split(&pts, dim, &mut order, 0);
+        let mut axes = vec![0u8; order.len()];
+        split(&pts, dim, &mut order, &mut axes);
         // Stored in the tree's order, so that a subtree's points lie together.
         let pts = order.iter().flat_map(|&i| pts[i as usize * dim..(i as usize + 1) * dim].iter().copied()).collect();
-        KdTree { dim, pts, offset, order }
+        KdTree { dim, pts, offset, order, axes }
     }
 
     /// How many points it holds.
@@ -125,7 +128,7 @@ impl KdTree {
                     &mut heap[..]
                 }
             };
-            self.search((0, self.order.len()), 0, q, k, skip, best, (off, 0.0));
+            self.search((0, self.order.len()), q, k, skip, best, (off, 0.0));
         }
     }
 
@@ -154,14 +157,13 @@ impl KdTree {
     fn one_fixed<const D: usize, F: Fn(u32) -> bool>(&self, q: &[f64], skip: &F, best: &mut (f64, u32)) {
         let Ok(q) = <&[f64; D]>::try_from(q) else { return };
         let mut off = [0.0; D];
-        self.search_one::<D, F>((0, self.order.len()), 0, q, skip, best, (&mut off, 0.0));
+        self.search_one::<D, F>((0, self.order.len()), q, skip, best, (&mut off, 0.0));
     }
 
     /// [`Self::search`] for the one nearest point, in `D` dimensions.
     fn search_one<const D: usize, F: Fn(u32) -> bool>(
         &self,
         (lo, hi): (usize, usize),
-        depth: usize,
         q: &[f64; D],
         skip: &F,
         best: &mut (f64, u32),
@@ -175,16 +177,16 @@ impl KdTree {
         }
         let mid = lo + (hi - lo) / 2;
         self.visit_one(mid, q, skip, best);
-        let axis = depth % D;
+        let axis = self.axes[mid] as usize;
         let diff = q[axis] - self.pts[mid * D + axis];
         let (near, far) = if diff < 0.0 { ((lo, mid), (mid + 1, hi)) } else { ((mid + 1, hi), (lo, mid)) };
-        self.search_one::<D, F>(near, depth + 1, q, skip, best, (&mut *off, rd));
+        self.search_one::<D, F>(near, q, skip, best, (&mut *off, rd));
         let old = off[axis];
         let far_rd = rd - old * old + diff * diff;
         // As in `search`: shrunk so that rounding never prunes a tie.
         if best.1 == u32::MAX || far_rd * (1.0 - 1e-9) <= best.0 {
             off[axis] = diff;
-            self.search_one::<D, F>(far, depth + 1, q, skip, best, (&mut *off, far_rd));
+            self.search_one::<D, F>(far, q, skip, best, (&mut *off, far_rd));
             off[axis] = old;
         }
     }
@@ -211,8 +213,8 @@ impl KdTree {
         (&self.pts[pos * self.dim..(pos + 1) * self.dim], self.offset + self.order[pos])
     }
 
-    /// Searches positions `lo..hi` (a subtree: its median at the middle, split on axis
-    /// `depth % dim`), `off` holding per axis how far `q` lies outside the subtree's cell
+    /// Searches positions `lo..hi` (a subtree: its median at the middle, split on the axis
+    /// `axes` holds there), `off` holding per axis how far `q` lies outside the subtree's cell
     /// and `rd` their squares' sum, a lower bound on the distance to any of its points
     /// (Arya and Mount's incremental distance: in seven dimensions the splitting plane's
     /// own distance alone prunes little).
@@ -220,7 +222,6 @@ impl KdTree {
     fn search<F: Fn(u32) -> bool>(
         &self,
         (lo, hi): (usize, usize),
-        depth: usize,
         q: &[f64],
         k: usize,
         skip: &F,
@@ -235,17 +236,17 @@ impl KdTree {
         }
         let mid = lo + (hi - lo) / 2;
         self.visit(mid, q, k, skip, best);
-        let axis = depth % self.dim;
+        let axis = self.axes[mid] as usize;
         let diff = q[axis] - self.pts[mid * self.dim + axis];
         let (near, far) = if diff < 0.0 { ((lo, mid), (mid + 1, hi)) } else { ((mid + 1, hi), (lo, mid)) };
-        self.search(near, depth + 1, q, k, skip, best, (&mut *off, rd));
+        self.search(near, q, k, skip, best, (&mut *off, rd));
         let old = off[axis];
         let far_rd = rd - old * old + diff * diff;
         // Shrunk a little so that rounding in the running sum never prunes a point that
         // ties with the worst kept (ties are decided by index).
         if best.len() < k || far_rd * (1.0 - 1e-9) <= best[best.len() - 1].0 {
             off[axis] = diff;
-            self.search(far, depth + 1, q, k, skip, best, (&mut *off, far_rd));
+            self.search(far, q, k, skip, best, (&mut *off, far_rd));
             off[axis] = old;
         }
     }
@@ -275,18 +276,31 @@ fn cmp(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
     a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
 }
 
-fn split(pts: &[f64], dim: usize, idx: &mut [u32], depth: usize) {
+/// Arranges `idx` as a subtree: its median at the middle along the axis its points spread
+/// widest on (ties to the lower axis; `axes` keeps it at the median's position), the
+/// halves likewise. Joint ranges differ (a wrist's ±2π, an elbow's ±π): cycling through
+/// the axes split narrow ones as often as wide ones, and a search visited more cells.
+fn split(pts: &[f64], dim: usize, idx: &mut [u32], axes: &mut [u8]) {
     if idx.len() <= LEAF {
         return;
     }
-    let axis = depth % dim;
+    let (mut lo, mut hi) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
+    for &i in idx.iter() {
+        for a in 0..dim {
+            let v = pts[i as usize * dim + a];
+            (lo[a], hi[a]) = (lo[a].min(v), hi[a].max(v));
+        }
+    }
+    let axis = (1..dim).fold(0, |best, a| if hi[a] - lo[a] > hi[best] - lo[best] { a } else { best });
     let mid = idx.len() / 2;
     idx.select_nth_unstable_by(mid, |&a, &b| {
         pts[a as usize * dim + axis].total_cmp(&pts[b as usize * dim + axis]).then(a.cmp(&b))
     });
+    axes[mid] = axis as u8;
     let (lo, hi) = idx.split_at_mut(mid);
-    split(pts, dim, lo, depth + 1);
-    split(pts, dim, &mut hi[1..], depth + 1);
+    let (axes_lo, axes_hi) = axes.split_at_mut(mid);
+    split(pts, dim, lo, axes_lo);
+    split(pts, dim, &mut hi[1..], &mut axes_hi[1..]);
 }
 
 #[cfg(test)]
