@@ -278,8 +278,9 @@ fn cmp(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
 
 /// Arranges `idx` as a subtree: its median at the middle along the axis its points spread
 /// widest on (ties to the lower axis; `axes` keeps it at the median's position), the
-/// halves likewise. Joint ranges differ (a wrist's ±2π, an elbow's ±π): cycling through
-/// the axes split narrow ones as often as wide ones, and a search visited more cells.
+/// halves likewise. A search tree's nodes bunch along some joints and spread along others
+/// (and joint ranges differ): cycling through the axes split the bunched ones as often as
+/// the spread, and a search visited more cells.
 fn split(pts: &[f64], dim: usize, idx: &mut [u32], axes: &mut [u8]) {
     if idx.len() <= LEAF {
         return;
