@@ -170,8 +170,10 @@ impl KdTree {
         (off, rd): (&mut [f64; D], f64),
     ) {
         if hi - lo <= LEAF {
-            for pos in lo..hi {
-                self.visit_one(pos, q, skip, best);
+            // A leaf's points as arrays: one bounds check for the leaf, not one per value.
+            let (points, _) = self.pts[lo * D..hi * D].as_chunks::<D>();
+            for (p, &i) in points.iter().zip(&self.order[lo..hi]) {
+                self.consider(p, self.offset + i, q, skip, best);
             }
             return;
         }
@@ -194,7 +196,19 @@ impl KdTree {
     #[inline(always)]
     fn visit_one<const D: usize, F: Fn(u32) -> bool>(&self, pos: usize, q: &[f64; D], skip: &F, best: &mut (f64, u32)) {
         let Ok(p) = <&[f64; D]>::try_from(&self.pts[pos * D..(pos + 1) * D]) else { return };
-        let id = self.offset + self.order[pos];
+        self.consider(p, self.offset + self.order[pos], q, skip, best);
+    }
+
+    /// Point `id` at `p`, against the best so far.
+    #[inline(always)]
+    fn consider<const D: usize, F: Fn(u32) -> bool>(
+        &self,
+        p: &[f64; D],
+        id: u32,
+        q: &[f64; D],
+        skip: &F,
+        best: &mut (f64, u32),
+    ) {
         if skip(id) {
             return;
         }
