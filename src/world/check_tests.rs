@@ -53,8 +53,52 @@ fn a_hull_pressed_into_a_box_face_by_hand() {
     }
 }
 
+/// The penetration depth of two convex polytopes (their vertices and triangles, placed),
+/// exactly: the least overlap of their projections over every face normal of their
+/// Minkowski difference (each one's triangle normals and the cross products of an edge
+/// of each); 0 when one of them separates them. Any direction's overlap is at least the
+/// depth, and one of those is the depth's own.
+fn polytope_depth(a: (&[PVec], &[[u32; 3]]), b: (&[PVec], &[[u32; 3]])) -> f64 {
+    let normals = |(pts, tris): (&[PVec], &[[u32; 3]])| -> Vec<PVec> {
+        tris.iter()
+            .map(|t| (pts[t[1] as usize] - pts[t[0] as usize]).cross(pts[t[2] as usize] - pts[t[0] as usize]))
+            .collect()
+    };
+    let edges = |(pts, tris): (&[PVec], &[[u32; 3]])| -> Vec<PVec> {
+        tris.iter()
+            .flat_map(|t| [(0, 1), (1, 2), (2, 0)].map(|(i, j)| pts[t[j] as usize] - pts[t[i] as usize]))
+            .collect()
+    };
+    let (ea, eb) = (edges(a), edges(b));
+    let crossed = ea.iter().flat_map(|x| eb.iter().map(move |y| x.cross(*y)));
+    let span = |pts: &[PVec], n: PVec| {
+        pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.dot(n)), hi.max(p.dot(n))))
+    };
+    let mut depth = f64::INFINITY;
+    for n in normals(a).into_iter().chain(normals(b)).chain(crossed) {
+        let Some(n) = n.try_normalize().filter(|_| n.length() > 1e-9) else { continue };
+        let ((alo, ahi), (blo, bhi)) = (span(a.0, n), span(b.0, n));
+        depth = depth.min((ahi - blo).min(bhi - alo));
+    }
+    depth.max(0.0)
+}
+
+/// A box's corners and outward triangles.
+fn box_mesh(half: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
+    let corners: Vec<PVec> = (0..8)
+        .map(|k| {
+            PVec::new(
+                if k & 1 == 0 { -half.x } else { half.x },
+                if k & 2 == 0 { -half.y } else { half.y },
+                if k & 4 == 0 { -half.z } else { half.z },
+            )
+        })
+        .collect();
+    parry3d_f64::transformation::try_convex_hull(&corners).expect("a box")
+}
+
 #[test]
-fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as_depth_does() {
+fn deep_overlaps_proved_by_the_shrunk_box_are_deep_and_collide_answers_as_the_exact_depth_does() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (mut proved, mut measured) = (0, 0);
     // GJK started from the last pair's separating direction, or from a random one (drawn
@@ -81,15 +125,23 @@ fn deep_overlaps_proved_by_the_shrunk_box_are_deep_by_epa_and_collide_answers_as
         let anywhere = (PVec::new(rng.random(), rng.random(), rng.random()) - PVec::splat(0.5)) * 0.3;
         let pose = PPose::from_parts(if rng.random::<bool>() { pressed } else { anywhere }, turn);
         let (h, id) = (&*hull.0, PPose::IDENTITY);
-        let truth = by_depth(&pose, h, &id, &block);
-        assert_eq!(collide(&pose, h, &id, &block), truth, "{pose:?} {half:?}");
+        // The truth from the exact depth (EPA's can fall short: see the log of
+        // 2026-11-27); a depth within rounding of the tolerance decides nothing.
+        let (corners, faces) = parry3d_f64::transformation::try_convex_hull(&pts).expect("a hull");
+        let placed: Vec<PVec> = corners.iter().map(|p| pose * *p).collect();
+        let (box_corners, box_faces) = box_mesh(half);
+        let depth = polytope_depth((&placed, &faces), (&box_corners, &box_faces));
+        if (depth - CONTACT_TOLERANCE).abs() < 1e-6 {
+            continue;
+        }
+        let truth = depth > CONTACT_TOLERANCE;
+        assert_eq!(collide(&pose, h, &id, &block), truth, "{pose:?} {half:?}: depth {depth}");
         assert_eq!(collide_from(&pose, h, &id, &block, &mut stale), truth, "{pose:?} {half:?} from {stale:?}");
         let mut random = PVec::new(dirs.random::<f64>() - 0.5, dirs.random::<f64>() - 0.5, dirs.random::<f64>() - 0.5);
         assert_eq!(collide_from(&pose, h, &id, &block, &mut random), truth, "{pose:?} {half:?} from {random:?}");
         if surely_deeper(&pose, h, &id, &block) {
             proved += 1;
-            let depth = -query::contact(&pose, h, &id, &block, 0.0).expect("convex").expect("touching").dist;
-            assert!(depth > DEEP - 1e-9, "EPA {depth} under {DEEP}: {pose:?} {half:?}");
+            assert!(depth > DEEP - 1e-9, "depth {depth} under {DEEP}: {pose:?} {half:?}");
         } else if query::intersection_test(&pose, h, &id, &block).expect("convex").intersecting {
             measured += 1;
         }
