@@ -63,7 +63,7 @@ pub(crate) struct Hull {
 pub(crate) fn mesh_hull(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
     let (vertices, remap) = dedup(points);
     match convex_triangles(&vertices, &remap, triangles) {
-        Some((tris, edges)) => from_triangles(vertices, &tris, &edges),
+        Some((tris, edges)) => from_triangles(vertices, &tris, edges),
         None => hull_shape(&vertices),
     }
 }
@@ -72,20 +72,20 @@ pub(crate) fn mesh_hull(points: &[PVec], triangles: &[[u32; 3]]) -> Option<Share
 pub(crate) fn hull_shape(points: &[PVec]) -> Option<SharedShape> {
     let (vertices, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
     let edges = closed_edges(vertices.len(), &triangles)?;
-    from_triangles(vertices, &triangles, &edges)
+    from_triangles(vertices, &triangles, edges)
 }
 
 /// [`convex_triangles`]'s hull as a shape.
 #[cfg(test)]
 fn convex_mesh_shape(points: &[PVec], triangles: &[[u32; 3]]) -> Option<SharedShape> {
     let (vertices, tris, edges) = convex_mesh(points, triangles)?;
-    from_triangles(vertices, &tris, &edges)
+    from_triangles(vertices, &tris, edges)
 }
 
 /// A hull from its vertices and outward triangles (closed and convex: the callers have
 /// checked, `closed` being the triangles' edges, see [`closed_edges`]) and the edges the
 /// support queries climb.
-fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: &ClosedEdges) -> Option<SharedShape> {
+fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: ClosedEdges) -> Option<SharedShape> {
     // The indices are in range: `closed_edges` checked them.
     let n = vertices.len();
     if n < 4 || triangles.len() < 4 {
@@ -94,7 +94,6 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: &ClosedEd
     // A vertex's neighbours: the ends of its directed edges (every edge's reverse is
     // there too, so these are all of them, each once), sorted as `closed_edges` left them.
     let (first, edges) = closed;
-    let first = first.clone();
     let nbrs: Vec<u32> = edges.iter().map(|e| e.0).collect();
     let mut hull = Hull {
         local_box: bounding_volume::details::local_point_cloud_aabb_ref(&vertices),
