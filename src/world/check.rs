@@ -223,6 +223,8 @@ pub(super) struct Scratch {
     posture: usize,
     held_pose: Vec<PPose>,
     held_aabb: Vec<Aabb>,
+    /// The scene's leaves near one body or carried part (see `Scene::overlapping`).
+    leaves: Vec<u32>,
     /// The self-collision grids' measurements (see `pair_grid`).
     grid: Measure,
     /// Per robot shape and scene entry (`shape * entries + entry`), the direction that last
@@ -368,8 +370,9 @@ fn check_posed(
             if !b.moving {
                 continue;
             }
-            let body_aabb = s.body_aabb[bi];
-            for leaf in m.scene.bvh.intersect_aabb(&body_aabb) {
+            m.scene.overlapping(&s.body_aabb[bi], &mut s.leaves);
+            for k in 0..s.leaves.len() {
+                let leaf = s.leaves[k];
                 let e = &m.scene.entries[leaf as usize];
                 if let Owner::Object(o) = e.owner {
                     if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
@@ -447,7 +450,9 @@ fn check_posed(
             s.held_pose.push(pose);
         }
         for (pi, p) in parts.iter().enumerate() {
-            for leaf in m.scene.bvh.intersect_aabb(&s.held_aabb[pi]) {
+            m.scene.overlapping(&s.held_aabb[pi], &mut s.leaves);
+            for k in 0..s.leaves.len() {
+                let leaf = s.leaves[k];
                 let e = &m.scene.entries[leaf as usize];
                 if let Owner::Object(o) = e.owner {
                     if o == h.object || ctx.absent.contains(o) || labels.contains(o) {
