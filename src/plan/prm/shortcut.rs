@@ -3,14 +3,24 @@
 //! removes. The removal set cannot grow, so the answer stays as minimal as it was; the
 //! motion gets shorter and loses the zigzags of goal trees and roadmap detours.
 
+use std::collections::HashMap;
+
 use super::super::space::{Mode, Space};
 use super::RobotPlanner;
 use crate::world::{Check, ObjectSet};
 
 impl<S: Space> RobotPlanner<S> {
     /// `run` with waypoints dropped, its ends kept: a straight move from `run[i]` to
-    /// `run[k]` replaces the waypoints between when it is clear (divide and conquer:
-    /// the whole run first, then each half; then one pass dropping single waypoints).
+    /// `run[k]` replaces the waypoints between when its certifying check touches only
+    /// `allowed` (see [`drop_waypoints`]; the run's own steps are taken to have passed).
+    ///
+    /// Each move tried is decided on its coarse samples alone, and only the moves of the
+    /// result get the rest of the check: most trial moves that pass are replaced by longer
+    /// ones later, and the rest of their check (three samples in four) was most of a
+    /// shortcut's cost. A move of the result that fails the rest is not taken again and the
+    /// waypoints are dropped anew (every coarse answer remembered). So the result is the
+    /// one the full check of every move tried gives, whenever every move that passed its
+    /// coarse samples passes the rest; otherwise it may keep fewer waypoints.
     pub(super) fn shortcut(
         &self,
         run: &[Vec<f64>],
@@ -18,40 +28,23 @@ impl<S: Space> RobotPlanner<S> {
         allowed: &ObjectSet,
         checks: &mut u64,
     ) -> Vec<Vec<f64>> {
-        let mut keep = vec![false; run.len()];
-        if let (Some(f), Some(l)) = (keep.first_mut(), run.len().checked_sub(1)) {
-            *f = true;
-            keep[l] = true;
-        }
-        let mut todo = vec![(0, run.len().saturating_sub(1))];
-        while let Some((i, k)) = todo.pop() {
-            if k <= i + 1 || self.clear(&run[i], &run[k], mode, allowed, checks) {
-                continue;
+        // Per move tried: its coarse answer, false once it failed the rest.
+        let mut coarse: HashMap<(usize, usize), bool> = HashMap::new();
+        'drop: loop {
+            let kept = drop_waypoints(run.len(), |i, k| {
+                *coarse
+                    .entry((i, k))
+                    .or_insert_with(|| self.coarse_within((&run[i], &run[k]), false, mode, allowed, checks))
+            });
+            for w in kept.windows(2) {
+                let (i, k) = (w[0], w[1]);
+                if k > i + 1 && !self.rest_within((&run[i], &run[k]), mode, allowed, checks) {
+                    coarse.insert((i, k), false);
+                    continue 'drop;
+                }
             }
-            let m = (i + k) / 2;
-            keep[m] = true;
-            todo.push((m, k));
-            todo.push((i, m));
+            return kept.iter().map(|&i| run[i].clone()).collect();
         }
-        let mut out: Vec<Vec<f64>> = run.iter().zip(keep).filter(|(_, k)| *k).map(|(q, _)| q.clone()).collect();
-        // Halving keeps midpoints a better split would not need: drop each waypoint
-        // whose neighbours see each other.
-        let mut i = 1;
-        while i + 1 < out.len() {
-            if self.clear(&out[i - 1], &out[i + 1], mode, allowed, checks) {
-                out.remove(i);
-            } else {
-                i += 1;
-            }
-        }
-        out
-    }
-
-    /// Whether the certifying check of a -> b touches only `allowed`: its coarse samples
-    /// first (most moves that fail are blocked, and a few samples spread along the
-    /// segment find it), then the rest.
-    fn clear(&self, a: &[f64], b: &[f64], mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
-        self.coarse_within((a, b), false, mode, allowed, checks) && self.rest_within((a, b), mode, allowed, checks)
     }
 
     /// The coarse samples of the certifying check of a step leaving `a`, itself known to
@@ -82,6 +75,39 @@ impl<S: Space> RobotPlanner<S> {
     fn rest_within(&self, (a, b): (&[f64], &[f64]), mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
         within(self.space.check_motion_rest(a, b, self.settings.resolution, mode, checks), allowed)
     }
+}
+
+/// The indices of the waypoints of a run of `n` kept when those between `i` and `k` are
+/// dropped wherever `clear(i, k)` (never asked for neighbours): divide and conquer, the
+/// whole run first, then each half; then one pass dropping single waypoints.
+fn drop_waypoints(n: usize, mut clear: impl FnMut(usize, usize) -> bool) -> Vec<usize> {
+    let mut keep = vec![false; n];
+    if let (Some(f), Some(l)) = (keep.first_mut(), n.checked_sub(1)) {
+        *f = true;
+        keep[l] = true;
+    }
+    let mut todo = vec![(0, n.saturating_sub(1))];
+    while let Some((i, k)) = todo.pop() {
+        if k <= i + 1 || clear(i, k) {
+            continue;
+        }
+        let m = (i + k) / 2;
+        keep[m] = true;
+        todo.push((m, k));
+        todo.push((i, m));
+    }
+    let mut out: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    // Halving keeps midpoints a better split would not need: drop each waypoint whose
+    // neighbours see each other.
+    let mut i = 1;
+    while i + 1 < out.len() {
+        if clear(out[i - 1], out[i + 1]) {
+            out.remove(i);
+        } else {
+            i += 1;
+        }
+    }
+    out
 }
 
 fn within(c: Check, allowed: &ObjectSet) -> bool {

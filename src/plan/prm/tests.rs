@@ -296,6 +296,37 @@ fn steps_through_a_wall_thinner_than_the_resolution_are_taken_out() {
     assert!(taken_out > 0, "no step went through the wall: the test shows nothing");
 }
 
+/// A shortcut decides its trial moves on the coarse samples and certifies only the moves
+/// it keeps: here the straight move from end to end passes the coarse samples (they fall
+/// on either side of a wall thinner than the resolution) but not the rest, so the result
+/// keeps the waypoint before the hole, and every move of it passes the full check. (Not
+/// certifying the result fails it: it returns the two ends.)
+#[test]
+fn a_shortcut_keeps_no_move_that_fails_the_rest_of_its_check() {
+    let space = Slit { wall: 0.005, door: false, ..Slit::new(0.1) };
+    let settings = PlannerSettings { max_samples: 100, seed: 0, ..PlannerSettings::default() };
+    let p = RobotPlanner::new(space, &settings, &PrmOptions::default(), 0);
+    let (res, mode, none) = (p.settings.resolution, Mode::default(), ObjectSet::new());
+    // An end whose move to the far end jumps the wall between two coarse samples.
+    let far = vec![0.8, 0.6, 0.6];
+    let start = (0..200)
+        .map(|k| vec![-0.8 + 0.0001 * k as f64, 0.6, 0.6])
+        .find(|a| {
+            p.space().check_segment(a, &far, res, &mode, &mut 0) == Check::free()
+                && p.space().check_motion(a, &far, res, &mode, &mut 0).is_blocked()
+        })
+        .expect("a move that only the rest of the check finds blocked");
+    let run = vec![start.clone(), vec![-0.1, 0.0, 0.0], vec![0.1, 0.0, 0.0], far.clone()];
+    for w in run.windows(2) {
+        assert_eq!(p.space().check_motion(&w[0], &w[1], res, &mode, &mut 0), Check::free());
+    }
+    let short = p.shortcut(&run, &mode, &none, &mut 0);
+    assert_eq!(short, vec![start, vec![-0.1, 0.0, 0.0], far]);
+    for w in short.windows(2) {
+        assert_eq!(p.space().check_motion(&w[0], &w[1], res, &mode, &mut 0), Check::free(), "{w:?}");
+    }
+}
+
 /// A goal in the pocket behind the slit's wall (see [`Slit::pocket`]).
 const POCKET: [f64; 3] = [0.15, 0.05, -0.05];
 
