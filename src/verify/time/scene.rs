@@ -110,9 +110,16 @@ impl<'w> Cell<'w> {
                     push(found, body(ps.body), obs, d);
                 }
             }
-            // Self-collision over the unpruned pairs: contact only.
+            // Self-collision over the unpruned pairs: contact only. A body's shapes, in
+            // order: their run of the posed list when they are one run (as posed by the
+            // world), else found by walking it.
+            let posed = &s.posed[ri];
+            let runs = if again || g.self_pairs.is_empty() { None } else { body_runs(posed, g.bodies.len()) };
+            let of = |k: usize| match &runs {
+                Some(runs) => Either::Run(posed[runs[k].clone()].iter()),
+                None => Either::Walk(posed.iter().filter(move |x| x.body == k)),
+            };
             for &(a, b) in g.self_pairs.iter().filter(|_| !again) {
-                let of = |k: usize| s.posed[ri].iter().filter(move |x| x.body == k);
                 if of(a).any(|x| of(b).any(|y| near(Side::of(x), Side::of(y), 0.0).is_some())) {
                     push(found, body(a), Obstacle::Moving(body(b)), None);
                 }
@@ -261,4 +268,70 @@ fn near(a: Side, b: Side, clearance: f64) -> Option<Option<f64>> {
         },
     };
     touching.then_some(None)
+}
+
+/// Per body, the run of `posed` holding its shapes; `None` unless each body's shapes are
+/// one run (empty for a body without shapes).
+fn body_runs(posed: &[PosedShape], bodies: usize) -> Option<Vec<std::ops::Range<usize>>> {
+    let mut runs = vec![0..0; bodies];
+    let mut i = 0;
+    while i < posed.len() {
+        let b = posed[i].body;
+        let start = i;
+        while i < posed.len() && posed[i].body == b {
+            i += 1;
+        }
+        let run = runs.get_mut(b)?;
+        // Set before: its shapes are in two runs.
+        if run.end != 0 {
+            return None;
+        }
+        *run = start..i;
+    }
+    Some(runs)
+}
+
+/// One of two iterators over the same items.
+#[derive(Clone)]
+enum Either<A, B> {
+    Run(A),
+    Walk(B),
+}
+
+impl<'a, A: Iterator<Item = &'a PosedShape>, B: Iterator<Item = &'a PosedShape>> Iterator for Either<A, B> {
+    type Item = &'a PosedShape;
+    fn next(&mut self) -> Option<&'a PosedShape> {
+        match self {
+            Either::Run(a) => a.next(),
+            Either::Walk(b) => b.next(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use parry3d_f64::shape::SharedShape;
+
+    use super::*;
+
+    fn posed(bodies: &[usize]) -> Vec<PosedShape> {
+        let one = |body| PosedShape {
+            body,
+            shape: SharedShape::ball(0.1),
+            eroded: None,
+            pose: PPose::IDENTITY,
+            aabb: Aabb::new_invalid(),
+        };
+        bodies.iter().map(|&b| one(b)).collect()
+    }
+
+    /// Runs are each body's shapes in order; a body in two runs, or one the robot does not
+    /// have, leaves the walk to find them.
+    #[test]
+    fn each_bodys_shapes_are_its_run_or_there_are_no_runs() {
+        assert_eq!(body_runs(&posed(&[0, 0, 2, 2, 2, 3]), 5), Some(vec![0..2, 0..0, 2..5, 5..6, 0..0]));
+        assert_eq!(body_runs(&posed(&[]), 2), Some(vec![0..0, 0..0]));
+        assert_eq!(body_runs(&posed(&[0, 1, 0]), 2), None);
+        assert_eq!(body_runs(&posed(&[0, 2]), 2), None);
+    }
 }
