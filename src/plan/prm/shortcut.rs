@@ -3,7 +3,7 @@
 //! removes. The removal set cannot grow, so the answer stays as minimal as it was; the
 //! motion gets shorter and loses the zigzags of goal trees and roadmap detours.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use super::super::space::{Mode, Space};
 use super::RobotPlanner;
@@ -18,9 +18,10 @@ impl<S: Space> RobotPlanner<S> {
     /// result get the rest of the check: most trial moves that pass are replaced by longer
     /// ones later, and the rest of their check (three samples in four) was most of a
     /// shortcut's cost. A move of the result that fails the rest is not taken again and the
-    /// waypoints are dropped anew (every coarse answer remembered). So the result is the
-    /// one the full check of every move tried gives, whenever every move that passed its
-    /// coarse samples passes the rest; otherwise it may keep fewer waypoints.
+    /// waypoints are dropped anew (every answer remembered). So the result is the one the
+    /// full check of every move tried gives whenever every move that passed its coarse
+    /// samples passes the rest; otherwise its waypoints may differ, each of its moves
+    /// still having passed the whole check.
     pub(super) fn shortcut(
         &self,
         run: &[Vec<f64>],
@@ -28,8 +29,10 @@ impl<S: Space> RobotPlanner<S> {
         allowed: &ObjectSet,
         checks: &mut u64,
     ) -> Vec<Vec<f64>> {
-        // Per move tried: its coarse answer, false once it failed the rest.
+        // Per move tried: its coarse answer, false once it failed the rest; the moves
+        // that passed the rest.
         let mut coarse: HashMap<(usize, usize), bool> = HashMap::new();
+        let mut sure: HashSet<(usize, usize)> = HashSet::new();
         'drop: loop {
             let kept = drop_waypoints(run.len(), |i, k| {
                 *coarse
@@ -38,10 +41,14 @@ impl<S: Space> RobotPlanner<S> {
             });
             for w in kept.windows(2) {
                 let (i, k) = (w[0], w[1]);
-                if k > i + 1 && !self.rest_within((&run[i], &run[k]), mode, allowed, checks) {
+                if k == i + 1 || sure.contains(&(i, k)) {
+                    continue;
+                }
+                if !self.rest_within((&run[i], &run[k]), mode, allowed, checks) {
                     coarse.insert((i, k), false);
                     continue 'drop;
                 }
+                sure.insert((i, k));
             }
             return kept.iter().map(|&i| run[i].clone()).collect();
         }
