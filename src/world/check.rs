@@ -246,7 +246,7 @@ thread_local! {
 #[inline]
 pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
     match p.boxed {
-        Boxed::Hull => p.obb.cuboid.compute_aabb(&(*pose * p.obb.centre)),
+        Boxed::Hull => p.obb.world_aabb(pose),
         // parry's `Ball::aabb`, without asking the shape what it is.
         Boxed::Ball(r) => Aabb::new(pose.translation + PVec::splat(-r), pose.translation + PVec::splat(r)),
         Boxed::Other => aabb_of(&*p.shape.0, pose),

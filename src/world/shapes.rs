@@ -107,10 +107,19 @@ impl Obb {
         Obb { cuboid: Cuboid::new(aabb.half_extents()), centre: PPose::from_translation(aabb.center()), exact: false }
     }
 
+    /// The cuboid's pose when its frame stands at `pose`: `pose * centre` without the
+    /// quaternion product, the centre being a shift only (both constructors make it so).
+    #[inline]
+    pub fn placed(&self, pose: &PPose) -> PPose {
+        let mut at = *pose;
+        at.translation = pose.translation + pose.rotation * self.centre.translation;
+        at
+    }
+
     /// Its world box when its frame stands at `pose`.
     #[inline]
     pub fn world_aabb(&self, pose: &PPose) -> Aabb {
-        self.cuboid.compute_aabb(&(*pose * self.centre))
+        self.cuboid.compute_aabb(&self.placed(pose))
     }
 
     /// False only when the boxes, placed at `p1` and `p2`, are apart.
@@ -121,7 +130,7 @@ impl Obb {
         }
         // The face normals of both boxes only: the edge-edge axes cost more than they
         // rule out, and leaving them out keeps the test conservative.
-        let pos12 = (*p1 * self.centre).inv_mul(&(*p2 * other.centre));
+        let pos12 = self.placed(p1).inv_mul(&other.placed(p2));
         !faces_separate(self.cuboid.half_extents, other.cuboid.half_extents, &pos12)
     }
 
@@ -129,7 +138,7 @@ impl Obb {
     /// the distance between anything inside them (negative when no face separates them).
     #[inline]
     pub fn gap(&self, p1: &PPose, other: &Obb, p2: &PPose) -> f64 {
-        let pos12 = (*p1 * self.centre).inv_mul(&(*p2 * other.centre));
+        let pos12 = self.placed(p1).inv_mul(&other.placed(p2));
         boxes_face_gap(self.cuboid.half_extents, other.cuboid.half_extents, &pos12)
     }
 }

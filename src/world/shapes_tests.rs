@@ -49,6 +49,20 @@ fn two_boxes(reach: f64) -> impl Strategy<Value = (PVec, PVec, PPose)> {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(4000))]
+    /// A box's placed cuboid is its frame's pose times its centre, to the bit: the shift
+    /// turned, the rotation the frame's.
+    #[test]
+    fn a_box_is_placed_as_its_frame_times_its_centre(
+        (lo, size, t, rot) in (vector(-1.0, 1.0), vector(0.0, 1.0), vector(-2.0, 2.0), turn())
+    ) {
+        let obb = Obb::of_aabb(&Aabb::new(lo, lo + size));
+        let pose = PPose::from_parts(t, rot);
+        let (fast, full) = (obb.placed(&pose), pose * obb.centre);
+        prop_assert_eq!(fast.translation, full.translation);
+        prop_assert_eq!(fast.rotation, full.rotation);
+        prop_assert_eq!(obb.world_aabb(&pose), obb.cuboid.compute_aabb(&full));
+    }
+
     /// `faces_separate` says apart exactly when some face normal separates the boxes
     /// (away from the boundary, where rounding may go either way).
     #[test]
