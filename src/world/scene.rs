@@ -54,10 +54,8 @@ impl Scene {
         let aabbs: Vec<Aabb> = entries.iter().map(|e| e.aabb).collect();
         let bvh = if aabbs.is_empty() { Bvh::new() } else { Bvh::from_leaves(BvhBuildStrategy::default(), &aabbs) };
         // (A scan missing a leaf would miss its shape: then the traversal it is.)
-        let scan = Some(entries.len())
-            .filter(|&n| n <= SCAN_MAX)
-            .map(|_| traversal_order(&bvh))
-            .filter(|scan| scan.len() == entries.len());
+        let scan =
+            (entries.len() <= SCAN_MAX).then(|| traversal_order(&bvh)).filter(|scan| scan.len() == entries.len());
         Scene { bvh, entries, scan }
     }
 
