@@ -390,7 +390,7 @@ fn configuration_queries_go_through_the_hole_not_the_door() {
 }
 
 /// A wall with no hole and no door: the query gives up having spent both budgets, the
-/// roadmap's samples and the free trees' 128 extensions per sample (in rounds 1 and 2
+/// roadmap's samples and the free trees' 256 extensions per sample (in rounds 1 and 2
 /// after the round's roadmap found no path, from round 3 before it).
 #[test]
 fn a_query_that_gives_up_says_what_both_searches_spent() {
@@ -399,7 +399,7 @@ fn a_query_that_gives_up_says_what_both_searches_spent() {
     let p = RobotPlanner::new(space, &settings, &PrmOptions::default(), 0);
     let answer = p.query(&Goal::Reach(Config(BEHIND.to_vec())));
     let Err(crate::plan::Unreachable::BudgetExhausted(b)) = answer.result else { panic!("{:?}", answer.result) };
-    assert_eq!((b.samples, b.max_samples, b.extensions, b.timed_out), (1000, 1000, 128 * 1000, false));
+    assert_eq!((b.samples, b.max_samples, b.extensions, b.timed_out), (1000, 1000, 256 * 1000, false));
 }
 
 /// A grasp behind the wall, with the drop at home: the free search's two legs (to the
