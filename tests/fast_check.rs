@@ -12,7 +12,7 @@ use std::path::Path;
 use declutter::diag::{FsLoader, SourceMap};
 use declutter::resolve::{ObjectId, RobotId};
 use declutter::world::{self, Blocker, Check, CheckCtx, World, WorldOptions};
-use families::{shared_robots, ARMS};
+use families::{shared_robots, Arm, ARMS};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -38,6 +38,8 @@ struct Seen {
     held: usize,
     /// Carried objects that hit the arm carrying them.
     held_self: usize,
+    /// Contacts with a box that a ball inside a hull proved.
+    inner_proved: u64,
 }
 
 /// Compares both worlds on robot `r` at random configurations: uniform in the limits, or
@@ -66,6 +68,8 @@ fn compare(name: &str, fast: &World, exact: &World, r: RobotId, seed: u64, held_
         let (got, want) = (fast.check(r, &q, &a), exact.check(r, &q, &b));
         assert_eq!(got, want, "{name}, robot {r:?}, sample {i}, q = {q:?}");
         assert_eq!(b.grid_apart.get(), 0, "the plain check used a grid");
+        assert_eq!(b.inner_proved.get(), 0, "the plain check used a hull's balls");
+        seen.inner_proved += a.inner_proved.get();
         seen.grid_apart += a.grid_apart.get();
         seen.placed.0 += a.bodies_placed.get();
         seen.placed.1 += b.bodies_placed.get();
@@ -154,5 +158,8 @@ fn the_fast_check_changes_no_verdict_on_the_shared_arms() {
         let seen = compare(&format!("{arm:?}"), &fast, &exact, RobotId(0), 100 + k as u64, 5);
         eprintln!("{arm:?}: {seen:?}");
         assert!(seen.grid_apart > 0 && seen.placed.0 < seen.placed.1, "{arm:?}: {seen:?}");
+        // Every arm of meshes had contacts proved by its hulls' balls (the Panda's spheres
+        // have no hulls).
+        assert_eq!(seen.inner_proved > 0, arm != Arm::Panda, "{arm:?}: {seen:?}");
     }
 }

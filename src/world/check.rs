@@ -21,6 +21,7 @@ use parry3d_f64::query;
 use parry3d_f64::query::gjk::VoronoiSimplex;
 use parry3d_f64::shape::{Cuboid, Shape};
 
+use super::hull::Ball;
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
@@ -46,6 +47,8 @@ pub struct CheckCtx {
     /// Bodies whose shapes were placed, over all checks (every moving one, without the
     /// fast check).
     pub bodies_placed: Cell<u64>,
+    /// Contacts with a box a ball inside a hull proved (the exact test skipped).
+    pub inner_proved: Cell<u64>,
 }
 
 impl CheckCtx {
@@ -194,11 +197,22 @@ fn surely_deeper(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool
 }
 
 /// Collision of a moving shape (robot or carried) with another: by its eroded
-/// primitive when it has one (one intersection test), else by contact depth.
+/// primitive when it has one (one intersection test), else by contact depth. `inner`:
+/// the balls inside the moving shape to try first against a box (`moving.inner`, or none
+/// for the plain check); `proved` counts the contacts they proved.
 #[inline]
-fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2: &Obb, dir: &mut PVec) -> bool {
+fn collide_moving(
+    (p1, moving, inner): (&PPose, &Placed, &[Ball]),
+    (p2, s2, obb2): (&PPose, &dyn Shape, &Obb),
+    dir: &mut PVec,
+    proved: &Cell<u64>,
+) -> bool {
     if !moving.eroded_obb.as_ref().unwrap_or(&moving.obb).may_touch(p1, obb2, p2) {
         return false;
+    }
+    if obb2.exact && inner_ball_meets(p1, inner, &obb2.placed(p2), obb2.cuboid.half_extents) {
+        proved.set(proved.get() + 1);
+        return true;
     }
     match &moving.eroded {
         Some(e) => match (e.as_cuboid(), s2.as_cuboid()) {
@@ -207,6 +221,14 @@ fn collide_moving(p1: &PPose, moving: &Placed, p2: &PPose, s2: &dyn Shape, obb2:
         },
         None => collide_from(p1, &*moving.shape.0, p2, s2, dir),
     }
+}
+
+/// Whether one of `inner` (eroded balls in the frame at `p1`) meets the box of half
+/// extents `he` at `p2`: a contact deeper than the tolerance, the ball being inside the
+/// shape. Unsure (within parry's margin of touching) is not a proof.
+#[inline]
+fn inner_ball_meets(p1: &PPose, inner: &[Ball], p2: &PPose, he: PVec) -> bool {
+    inner.iter().any(|&(c, r)| ball_meets_box(*p1 * c, r, p2, he) == Some(true))
 }
 
 /// Per-thread buffers, so a check allocates nothing once warm.
@@ -390,7 +412,10 @@ fn check_posed(
                             })
                             .unwrap_or_else(|| {
                                 let dir = &mut s.separating[si * entries + leaf as usize];
-                                collide_moving(&s.shape_pose[si], placed, &e.pose, &*e.shape.0, &e.obb, dir)
+                                let inner = if m.fast_check { &placed.inner[..] } else { &[] };
+                                let (mover, other) =
+                                    ((&s.shape_pose[si], placed, inner), (&e.pose, &*e.shape.0, &e.obb));
+                                collide_moving(mover, other, dir, &ctx.inner_proved)
                             })
                 });
                 if hit {
@@ -459,7 +484,9 @@ fn check_posed(
                         continue;
                     }
                 }
-                if !collide_moving(&s.held_pose[pi], p, &e.pose, &*e.shape.0, &e.obb, &mut no_start()) {
+                let inner = if m.fast_check { &p.inner[..] } else { &[] };
+                let (mover, other) = ((&s.held_pose[pi], p, inner), (&e.pose, &*e.shape.0, &e.obb));
+                if !collide_moving(mover, other, &mut no_start(), &ctx.inner_proved) {
                     continue;
                 }
                 match e.owner {
@@ -481,7 +508,10 @@ fn check_posed(
                 pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
                     let other = &m.shapes[si].placed;
-                    collide_moving(&s.held_pose[pi], p, &s.shape_pose[si], &*other.shape.0, &other.obb, &mut no_start())
+                    let inner = if m.fast_check { &p.inner[..] } else { &[] };
+                    let (mover, other) =
+                        ((&s.held_pose[pi], p, inner), (&s.shape_pose[si], &*other.shape.0, &other.obb));
+                    collide_moving(mover, other, &mut no_start(), &ctx.inner_proved)
                 });
                 if hit {
                     return Check::Blocked(Blocker::HeldSelf { object: h.object, link: b.name.clone() });
@@ -498,16 +528,19 @@ pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize
         s.self_separating.clear();
         s.self_separating.resize(n * n, PVec::ZERO);
     }
+    // No balls tried: a robot's shapes are hulls against hulls (balls against balls, tried
+    // on the UR5, cost more than they proved).
+    let unseen = Cell::new(0);
     m.bodies[a].shapes.clone().any(|i| {
         m.bodies[b].shapes.clone().any(|j| {
             let (pa, pb) = (&m.shapes[i].placed, &m.shapes[j].placed);
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
                 && if pa.eroded.is_some() || pb.eroded.is_none() {
                     let dir = &mut s.self_separating[i * n + j];
-                    collide_moving(&s.shape_pose[i], pa, &s.shape_pose[j], &*pb.shape.0, &pb.obb, dir)
+                    collide_moving((&s.shape_pose[i], pa, &[]), (&s.shape_pose[j], &*pb.shape.0, &pb.obb), dir, &unseen)
                 } else {
                     let dir = &mut s.self_separating[j * n + i];
-                    collide_moving(&s.shape_pose[j], pb, &s.shape_pose[i], &*pa.shape.0, &pa.obb, dir)
+                    collide_moving((&s.shape_pose[j], pb, &[]), (&s.shape_pose[i], &*pa.shape.0, &pa.obb), dir, &unseen)
                 }
         })
     })

@@ -53,6 +53,38 @@ fn a_hull_pressed_into_a_box_face_by_hand() {
     }
 }
 
+/// A hull's balls prove a contact with a box only where the exact test finds one: a
+/// 10 cm cube of ours (its largest ball at its centre, touching every face) pushed from 0
+/// to 3 mm into a box's face; the balls prove the contacts from just past the tolerance.
+#[test]
+fn a_hulls_balls_prove_only_contacts_the_exact_test_finds() {
+    let corners: Vec<PVec> =
+        (0..8).map(|k| PVec::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64) * 0.1).collect();
+    let hull = super::super::hull::hull_shape(&corners).expect("a cube");
+    let p = Placed::new(hull, PPose::IDENTITY);
+    assert!((p.inner[0].1 - (0.05 - CONTACT_TOLERANCE)).abs() < 1e-8, "{:?}", p.inner);
+    let table = Cuboid::new(PVec::splat(0.2));
+    let obb = Obb::of(&table);
+    let at = |d: f64| PPose::from_translation(PVec::new(-0.05, -0.05, 0.2 - d));
+    let mut first_proved = None;
+    for k in 0..=60 {
+        let d = k as f64 * 5e-5;
+        let proved = Cell::new(0);
+        let box_at = (&PPose::IDENTITY, &table as &dyn Shape, &obb);
+        let with = collide_moving((&at(d), &p, &p.inner), box_at, &mut no_start(), &proved);
+        let without = collide_moving((&at(d), &p, &[]), box_at, &mut no_start(), &Cell::new(0));
+        assert_eq!(with, without, "{d}");
+        if (d - CONTACT_TOLERANCE).abs() > 1e-6 {
+            assert_eq!(without, d > CONTACT_TOLERANCE, "{d}");
+        }
+        if proved.get() > 0 {
+            first_proved.get_or_insert(d);
+        }
+    }
+    let d = first_proved.expect("deeper contacts proved by the balls");
+    assert!((d - (CONTACT_TOLERANCE + 5e-5)).abs() < 1e-9, "first proved at {d}");
+}
+
 /// The penetration depth of two convex polytopes (their vertices and triangles, placed),
 /// exactly: the least overlap of their projections over every face normal of their
 /// Minkowski difference (each one's triangle normals and the cross products of an edge

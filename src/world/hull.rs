@@ -23,7 +23,10 @@ use parry3d_f64::shape::{
     ConvexPolyhedron, FeatureId, PolygonalFeatureMap, Shape, ShapeType, SharedShape, SubShapeId, SupportMap, TypedShape,
 };
 
+mod inner;
 mod surface;
+
+pub(crate) use inner::Ball;
 
 #[cfg(test)]
 use surface::{as_convex_mesh, closed, convex_mesh};
@@ -54,6 +57,8 @@ pub(crate) struct Hull {
     /// Its own box, parry's point-cloud box of `points` (asked for by the verifier's
     /// box-gap bound at every measure: a scan of every vertex each time).
     local_box: Aabb,
+    /// Balls inside the hull, the largest first (see [`inner`]).
+    inner: Box<[Ball]>,
 }
 
 /// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
@@ -95,8 +100,10 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: ClosedEdg
     // there too, so these are all of them, each once), sorted as `closed_edges` left them.
     let (first, edges) = closed;
     let nbrs: Vec<u32> = edges.iter().map(|e| e.0).collect();
+    let local_box = bounding_volume::details::local_point_cloud_aabb_ref(&vertices);
     let mut hull = Hull {
-        local_box: bounding_volume::details::local_point_cloud_aabb_ref(&vertices),
+        inner: inner::inner_balls(&vertices, triangles, &local_box).into(),
+        local_box,
         points: vertices,
         triangles: triangles.to_vec(),
         poly: OnceLock::new(),
@@ -153,6 +160,11 @@ fn cell_centre(c: usize) -> PVec {
     }
 }
 
+/// The balls inside a hull of ours (none for any other shape).
+pub(crate) fn inner_of(s: &dyn Shape) -> &[Ball] {
+    s.as_shape::<Hull>().map_or(&[], Hull::inner)
+}
+
 /// Whether a shape is a hull (ours, or parry's own polyhedron), without building ours.
 pub(crate) fn is_hull(s: &dyn Shape) -> bool {
     s.as_convex_polyhedron().is_some() || s.as_shape::<Hull>().is_some()
@@ -194,6 +206,11 @@ impl Hull {
                 .or_else(|| ConvexPolyhedron::from_convex_hull(&self.points))
                 .expect("a closed hull's triangles (checked when it was built)")
         })
+    }
+
+    /// Balls inside the hull, the largest first: a contact of one proves the hull's.
+    pub fn inner(&self) -> &[Ball] {
+        &self.inner
     }
 
     /// The index of a vertex farthest along `dir`.

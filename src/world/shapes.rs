@@ -44,6 +44,9 @@ pub(crate) struct Placed {
     pub boxed: Boxed,
     /// The eroded shape's radius when it is a ball (a spherized link's).
     pub eroded_ball: Option<f64>,
+    /// A hull's balls inside it (see `hull::inner`), each eroded by the contact
+    /// tolerance: one meeting a box proves the shape overlaps it deeper than that.
+    pub inner: Box<[super::hull::Ball]>,
 }
 
 #[derive(Clone, Copy)]
@@ -67,7 +70,12 @@ impl Placed {
             (None, None) => Boxed::Other,
         };
         let eroded_ball = eroded.as_ref().and_then(|e| e.as_ball()).map(|b| b.radius);
-        Placed { shape, pose, eroded, obb, eroded_obb, boxed, eroded_ball }
+        let inner = super::hull::inner_of(&*shape.0)
+            .iter()
+            .map(|&(c, r)| (c, r - CONTACT_TOLERANCE))
+            .filter(|&(_, r)| r > 0.0)
+            .collect();
+        Placed { shape, pose, eroded, obb, eroded_obb, boxed, eroded_ball, inner }
     }
 }
 

@@ -1,0 +1,142 @@
+//! Balls inside a hull, for proving contacts without GJK.
+//!
+//! A shape overlaps another at least as deep as any part of it does: a move that parts
+//! the hull from a box parts every ball inside the hull too. So a ball inside the hull
+//! that meets a box deeper than the contact tolerance proves the hull's contact, for the
+//! cost of a point's distance to a box, where the exact test runs GJK and often EPA. In
+//! a narrow passage most of a planner's checks are contacts (the UR5's trees through a
+//! window: three in five of its hull tests). Only contacts are decided this way; a pair
+//! the balls do not prove goes on to the exact test, so no verdict changes.
+
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Vector as PVec;
+
+/// Most balls kept per hull (each costs a point-to-box distance per tested pair).
+pub(crate) const MOST: usize = 6;
+/// Balls smaller than this (metres) are not kept: they would prove only deep contacts.
+const SMALLEST: f64 = 0.01;
+/// Candidate centres along the longest axis of the hull's box, and across it per axis
+/// (a link is long and narrow: its balls lie along it).
+const ALONG: usize = 9;
+const ACROSS: usize = 3;
+
+/// A ball: centre in the hull's frame, radius.
+pub(crate) type Ball = (PVec, f64);
+
+/// Up to [`MOST`] balls inside the hull of `points` bounded by `triangles` (outward or
+/// not: each plane is turned to face away from the vertices' mean, inside a convex hull),
+/// the largest first: centres drawn from a grid over `bounds`, each ball as large as its
+/// centre's distance to the nearest face plane, each new centre outside the balls before.
+/// About 80 centres against every face: a tenth of a millisecond for a hull of a thousand
+/// triangles, once when the mesh is loaded.
+pub(crate) fn inner_balls(points: &[PVec], triangles: &[[u32; 3]], bounds: &Aabb) -> Vec<Ball> {
+    if points.is_empty() {
+        return Vec::new();
+    }
+    let mean = points.iter().fold(PVec::ZERO, |a, p| a + *p) / points.len() as f64;
+    let planes: Vec<(PVec, f64)> = triangles
+        .iter()
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|i| points.get(i as usize).copied());
+            let (a, b, c) = (a?, b?, c?);
+            let n = (b - a).cross(c - a);
+            let len = n.length();
+            (len > 1e-12).then(|| {
+                let n = n / len;
+                match n.dot(a) >= n.dot(mean) {
+                    true => (n, n.dot(a)),
+                    false => (-n, -n.dot(a)),
+                }
+            })
+        })
+        .collect();
+    // A centre's ball: its distance inside every face plane, less a hair for rounding.
+    let radius = |p: PVec| planes.iter().map(|(n, d)| d - n.dot(p)).fold(f64::INFINITY, f64::min) - 1e-9;
+    let (lo, size) = (bounds.mins, bounds.maxs - bounds.mins);
+    let long = (0..3).fold(0, |l, a| if size[a] > size[l] { a } else { l });
+    let counts: [usize; 3] = std::array::from_fn(|a| if a == long { ALONG } else { ACROSS });
+    let mut candidates: Vec<Ball> = Vec::with_capacity(ALONG * ACROSS * ACROSS);
+    for i in 0..counts[0] {
+        for j in 0..counts[1] {
+            for k in 0..counts[2] {
+                let f = |n: usize, a: usize| (n as f64 + 0.5) / counts[a] as f64;
+                let p = lo + size * PVec::new(f(i, 0), f(j, 1), f(k, 2));
+                let r = radius(p);
+                if r >= SMALLEST {
+                    candidates.push((p, r));
+                }
+            }
+        }
+    }
+    // Largest first; ties in grid order, so the choice does not depend on the sort.
+    candidates.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut balls: Vec<Ball> = Vec::new();
+    for (p, r) in candidates {
+        if balls.len() == MOST {
+            break;
+        }
+        if balls.iter().all(|(c, rc)| (p - *c).length() > *rc) {
+            balls.push((p, r));
+        }
+    }
+    balls
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box's twelve outward triangles.
+    fn cube(h: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
+        let points: Vec<PVec> = (0..8)
+            .map(|i| {
+                PVec::new(
+                    if i & 1 == 0 { -h.x } else { h.x },
+                    if i & 2 == 0 { -h.y } else { h.y },
+                    if i & 4 == 0 { -h.z } else { h.z },
+                )
+            })
+            .collect();
+        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let triangles = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+        (points, triangles)
+    }
+
+    /// In a 40 x 10 x 10 cm bar, balls of radius 5 cm at most (the half width), none
+    /// reaching out of the bar, and the first centred across the bar.
+    #[test]
+    fn a_bars_balls_lie_inside_it() {
+        let h = PVec::new(0.2, 0.05, 0.05);
+        let (points, triangles) = cube(h);
+        let bounds = Aabb::new(-h, h);
+        let balls = inner_balls(&points, &triangles, &bounds);
+        assert!(balls.len() >= 3, "{balls:?}");
+        for (c, r) in &balls {
+            assert!(*r <= 0.05 + 1e-12, "{c:?} {r}");
+            assert!((c.abs() + PVec::splat(*r) - h).max_element() <= 1e-9, "{c:?} {r} leaves the bar");
+        }
+        // The grid's middle row across the bar: y and z at the centre, the ball touching
+        // both long sides.
+        let (c, r) = balls[0];
+        assert!(c.y.abs() < 1e-12 && c.z.abs() < 1e-12 && (r - 0.05).abs() < 1e-8, "{c:?} {r}");
+    }
+
+    /// Inward triangles give the same balls: each plane is turned away from the middle.
+    #[test]
+    fn the_triangles_winding_does_not_matter() {
+        let h = PVec::new(0.1, 0.07, 0.03);
+        let (points, triangles) = cube(h);
+        let flipped: Vec<[u32; 3]> = triangles.iter().map(|t| [t[0], t[2], t[1]]).collect();
+        let bounds = Aabb::new(-h, h);
+        assert_eq!(inner_balls(&points, &triangles, &bounds), inner_balls(&points, &flipped, &bounds));
+        assert!(!inner_balls(&points, &triangles, &bounds).is_empty());
+    }
+
+    /// A hull thinner than the smallest ball keeps none.
+    #[test]
+    fn a_thin_plate_keeps_no_ball() {
+        let h = PVec::new(0.2, 0.2, 0.004);
+        let (points, triangles) = cube(h);
+        assert!(inner_balls(&points, &triangles, &Aabb::new(-h, h)).is_empty());
+    }
+}
