@@ -17,6 +17,10 @@ pub(crate) struct KdTree {
     order: Vec<u32>,
     /// Per position that is a subtree's median, the axis that subtree is split on.
     axes: Vec<u8>,
+    /// Per position that is the median of a subtree or a leaf (`lo + (hi - lo) / 2` of
+    /// its range, distinct for every non-empty range), the box of its points: `dim`
+    /// lower bounds then `dim` upper ones.
+    boxes: Vec<f64>,
 }
 
 /// Subtrees of at most this many points are scanned, not split further.
@@ -96,8 +100,13 @@ impl KdTree {
         let mut axes = vec![0u8; order.len()];
         split(&pts, dim, &mut order, &mut axes);
         // Stored in the tree's order, so that a subtree's points lie together.
-        let pts = order.iter().flat_map(|&i| pts[i as usize * dim..(i as usize + 1) * dim].iter().copied()).collect();
-        KdTree { dim, pts, offset, order, axes }
+        let pts: Vec<f64> =
+            order.iter().flat_map(|&i| pts[i as usize * dim..(i as usize + 1) * dim].iter().copied()).collect();
+        let mut boxes = vec![0.0; pts.len() * 2];
+        if !order.is_empty() {
+            bound(&pts, dim, (0, order.len()), &mut boxes);
+        }
+        KdTree { dim, pts, offset, order, axes, boxes }
     }
 
     /// How many points it holds.
@@ -169,6 +178,12 @@ impl KdTree {
         best: &mut (f64, u32),
         (off, rd): (&mut [f64; D], f64),
     ) {
+        // The subtree's box is a tighter bound than the cell's splitting planes: a query
+        // from outside a growing tree's reach (half its aims are uniform in the joint
+        // limits) is near none of it, and the planes cut only a few of its axes.
+        if hi > lo && best.1 != u32::MAX && self.box_dist2::<D>(lo + (hi - lo) / 2, q) * (1.0 - 1e-9) > best.0 {
+            return;
+        }
         if hi - lo <= LEAF {
             // A leaf's points as arrays: one bounds check for the leaf, not one per value.
             let (points, _) = self.pts[lo * D..hi * D].as_chunks::<D>();
@@ -191,6 +206,20 @@ impl KdTree {
             self.search_one::<D, F>(far, q, skip, best, (&mut *off, far_rd));
             off[axis] = old;
         }
+    }
+
+    /// The squared distance from `q` to the box of the subtree or leaf whose middle
+    /// position is `pos`: at most any of its points' distance.
+    #[inline(always)]
+    fn box_dist2<const D: usize>(&self, pos: usize, q: &[f64; D]) -> f64 {
+        let (lo, hi) = self.boxes[pos * 2 * D..(pos + 1) * 2 * D].split_at(D);
+        let (Ok(lo), Ok(hi)) = (<&[f64; D]>::try_from(lo), <&[f64; D]>::try_from(hi)) else { return 0.0 };
+        let mut d = 0.0;
+        for i in 0..D {
+            let out = (lo[i] - q[i]).max(q[i] - hi[i]).max(0.0);
+            d += out * out;
+        }
+        d
     }
 
     #[inline(always)]
@@ -290,6 +319,36 @@ fn cmp(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
     a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
 }
 
+/// Fills `boxes` (see [`KdTree::boxes`]) for the subtree or leaf over positions `lo..hi`
+/// of `pts` (in the tree's order) and every one inside it; its box.
+fn bound(pts: &[f64], dim: usize, (lo, hi): (usize, usize), boxes: &mut [f64]) -> Vec<f64> {
+    let mid = lo + (hi - lo) / 2;
+    let mut b: Vec<f64> = [vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]].concat();
+    let take = |b: &mut Vec<f64>, other: &[f64]| {
+        for a in 0..dim {
+            b[a] = b[a].min(other[a]);
+            b[dim + a] = b[dim + a].max(other[dim + a]);
+        }
+    };
+    if hi - lo <= LEAF {
+        for pos in lo..hi {
+            let p = &pts[pos * dim..(pos + 1) * dim];
+            take(&mut b, &[p, p].concat());
+        }
+    } else {
+        let p = &pts[mid * dim..(mid + 1) * dim];
+        take(&mut b, &[p, p].concat());
+        for child in [(lo, mid), (mid + 1, hi)] {
+            if child.1 > child.0 {
+                let c = bound(pts, dim, child, boxes);
+                take(&mut b, &c);
+            }
+        }
+    }
+    boxes[mid * 2 * dim..(mid + 1) * 2 * dim].copy_from_slice(&b);
+    b
+}
+
 /// Arranges `idx` as a subtree: its median at the middle along the axis its points spread
 /// widest on (ties to the lower axis; `axes` keeps it at the median's position), the
 /// halves likewise. A search tree's nodes bunch along some joints and spread along others
@@ -380,7 +439,7 @@ mod tests {
     /// of a linear scan, ties to the lower index. (A merge that dropped a run, a wrong
     /// offset or a tie kept by the wrong tree would each fail it.) Every third query leaves
     /// out the points whose index is 5 mod 7 (a search tree's dead nodes), in the trees and
-    /// the scanned tail alike.
+    /// the scanned tail alike; every fourth comes from outside the points' box.
     #[test]
     fn growing_index_matches_linear_scan_as_points_arrive() {
         // An arm's six and seven joints take the fixed-size search; three the generic one.
@@ -390,8 +449,13 @@ mod tests {
             let mut index = GrowingIndex::default();
             let mut largest = 0;
             for n in 1..=pts.len() {
-                for k in 0..3 {
-                    let q: Vec<f64> = (0..dim).map(|_| rnd(3) as f64).collect();
+                for k in 0..4 {
+                    // The fourth query from a wider box, mostly outside the points' (where
+                    // the subtrees' boxes prune).
+                    let q: Vec<f64> = match k {
+                        3 => (0..dim).map(|_| rnd(9) as f64 - 3.0).collect(),
+                        _ => (0..dim).map(|_| rnd(3) as f64).collect(),
+                    };
                     let skip = |i: u32| k == 2 && i % 7 == 5;
                     let got = index.nearest(dim, n, |i| &pts[i], &q, skip);
                     let want = (0..n)
