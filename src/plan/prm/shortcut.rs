@@ -37,7 +37,7 @@ impl<S: Space> RobotPlanner<S> {
             let kept = drop_waypoints(run.len(), |i, k| {
                 *coarse
                     .entry((i, k))
-                    .or_insert_with(|| self.coarse_within((&run[i], &run[k]), false, mode, allowed, checks))
+                    .or_insert_with(|| self.coarse_within((&run[i], &run[k]), (false, false), mode, allowed, checks))
             });
             for w in kept.windows(2) {
                 let (i, k) = (w[0], w[1]);
@@ -56,9 +56,14 @@ impl<S: Space> RobotPlanner<S> {
 
     /// The coarse samples of the certifying check of a step leaving `a`, itself known to
     /// touch nothing in `mode` (a free-space tree's node), touch nothing; `a` is not
-    /// checked again. The rest is [`Self::rest_clear`]'s.
+    /// checked again. The rest is [`Self::rest_clear`]'s. The far end is checked first:
+    /// most steps of a tree in a narrow passage are stopped, most often with their end
+    /// inside something, which one check then says (the UR5's `narrow_gap` 66: 4 % fewer
+    /// checks). Whether the step is clear does not depend on the order.
     pub(super) fn coarse_clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        self.coarse_within((a, b), true, mode, &ObjectSet::new(), checks)
+        let none = ObjectSet::new();
+        within(self.space.check(b, mode, checks), &none)
+            && self.coarse_within((a, b), (true, true), mode, &none, checks)
     }
 
     /// The samples of the certifying check of a -> b that the coarse one does not take
@@ -70,13 +75,13 @@ impl<S: Space> RobotPlanner<S> {
     fn coarse_within(
         &self,
         (a, b): (&[f64], &[f64]),
-        a_known: bool,
+        known: (bool, bool),
         mode: &Mode,
         allowed: &ObjectSet,
         checks: &mut u64,
     ) -> bool {
         let res = self.settings.resolution;
-        within(self.space.check_segment_known((a, b), res, (a_known, false), mode, checks), allowed)
+        within(self.space.check_segment_known((a, b), res, known, mode, checks), allowed)
     }
 
     fn rest_within(&self, (a, b): (&[f64], &[f64]), mode: &Mode, allowed: &ObjectSet, checks: &mut u64) -> bool {
