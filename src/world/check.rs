@@ -197,12 +197,12 @@ fn surely_deeper(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool
 }
 
 /// Collision of a moving shape (robot or carried) with another: by its eroded
-/// primitive when it has one (one intersection test), else by contact depth. `inner`:
-/// the balls inside the moving shape to try first against a box (`moving.inner`, or none
-/// for the plain check); `proved` counts the contacts they proved.
+/// primitive when it has one (one intersection test), else by contact depth. `balls`:
+/// whether to try the balls inside the moving shape first against a box (`false` for
+/// the plain check); `proved` counts the contacts they proved.
 #[inline]
 fn collide_moving(
-    (p1, moving, inner): (&PPose, &Placed, &[Ball]),
+    (p1, moving, balls): (&PPose, &Placed, bool),
     (p2, s2, obb2): (&PPose, &dyn Shape, &Obb),
     dir: &mut PVec,
     proved: &Cell<u64>,
@@ -210,7 +210,7 @@ fn collide_moving(
     if !moving.eroded_obb.as_ref().unwrap_or(&moving.obb).may_touch(p1, obb2, p2) {
         return false;
     }
-    if obb2.exact && inner_ball_meets(p1, inner, &obb2.placed(p2), obb2.cuboid.half_extents) {
+    if balls && obb2.exact && inner_ball_meets(p1, moving.inner(), &obb2.placed(p2), obb2.cuboid.half_extents) {
         proved.set(proved.get() + 1);
         return true;
     }
@@ -223,12 +223,13 @@ fn collide_moving(
     }
 }
 
-/// Whether one of `inner` (eroded balls in the frame at `p1`) meets the box of half
-/// extents `he` at `p2`: a contact deeper than the tolerance, the ball being inside the
-/// shape. Unsure (within parry's margin of touching) is not a proof.
+/// Whether one of `inner` (balls inside a shape, in its frame at `p1`), eroded by the
+/// contact tolerance, meets the box of half extents `he` at `p2`: a contact deeper than
+/// the tolerance. Unsure (within parry's margin of touching) is not a proof, nor is a
+/// ball no larger than the tolerance.
 #[inline]
 fn inner_ball_meets(p1: &PPose, inner: &[Ball], p2: &PPose, he: PVec) -> bool {
-    inner.iter().any(|&(c, r)| ball_meets_box(*p1 * c, r, p2, he) == Some(true))
+    inner.iter().any(|&(c, r)| ball_meets_box(*p1 * c, r - CONTACT_TOLERANCE, p2, he) == Some(true))
 }
 
 /// Per-thread buffers, so a check allocates nothing once warm.
@@ -412,9 +413,8 @@ fn check_posed(
                             })
                             .unwrap_or_else(|| {
                                 let dir = &mut s.separating[si * entries + leaf as usize];
-                                let inner = if m.fast_check { &placed.inner[..] } else { &[] };
                                 let (mover, other) =
-                                    ((&s.shape_pose[si], placed, inner), (&e.pose, &*e.shape.0, &e.obb));
+                                    ((&s.shape_pose[si], placed, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
                                 collide_moving(mover, other, dir, &ctx.inner_proved)
                             })
                 });
@@ -484,8 +484,7 @@ fn check_posed(
                         continue;
                     }
                 }
-                let inner = if m.fast_check { &p.inner[..] } else { &[] };
-                let (mover, other) = ((&s.held_pose[pi], p, inner), (&e.pose, &*e.shape.0, &e.obb));
+                let (mover, other) = ((&s.held_pose[pi], p, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
                 if !collide_moving(mover, other, &mut no_start(), &ctx.inner_proved) {
                     continue;
                 }
@@ -508,9 +507,8 @@ fn check_posed(
                 pose_body(m, s, bi);
                 let hit = b.shapes.clone().any(|si| {
                     let other = &m.shapes[si].placed;
-                    let inner = if m.fast_check { &p.inner[..] } else { &[] };
                     let (mover, other) =
-                        ((&s.held_pose[pi], p, inner), (&s.shape_pose[si], &*other.shape.0, &other.obb));
+                        ((&s.held_pose[pi], p, m.fast_check), (&s.shape_pose[si], &*other.shape.0, &other.obb));
                     collide_moving(mover, other, &mut no_start(), &ctx.inner_proved)
                 });
                 if hit {
@@ -537,10 +535,20 @@ pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize
             s.shape_aabb[i].intersects(&s.shape_aabb[j])
                 && if pa.eroded.is_some() || pb.eroded.is_none() {
                     let dir = &mut s.self_separating[i * n + j];
-                    collide_moving((&s.shape_pose[i], pa, &[]), (&s.shape_pose[j], &*pb.shape.0, &pb.obb), dir, &unseen)
+                    collide_moving(
+                        (&s.shape_pose[i], pa, false),
+                        (&s.shape_pose[j], &*pb.shape.0, &pb.obb),
+                        dir,
+                        &unseen,
+                    )
                 } else {
                     let dir = &mut s.self_separating[j * n + i];
-                    collide_moving((&s.shape_pose[j], pb, &[]), (&s.shape_pose[i], &*pa.shape.0, &pa.obb), dir, &unseen)
+                    collide_moving(
+                        (&s.shape_pose[j], pb, false),
+                        (&s.shape_pose[i], &*pa.shape.0, &pa.obb),
+                        dir,
+                        &unseen,
+                    )
                 }
         })
     })

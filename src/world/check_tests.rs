@@ -62,7 +62,7 @@ fn a_hulls_balls_prove_only_contacts_the_exact_test_finds() {
         (0..8).map(|k| PVec::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64) * 0.1).collect();
     let hull = super::super::hull::hull_shape(&corners).expect("a cube");
     let p = Placed::new(hull, PPose::IDENTITY);
-    assert!((p.inner[0].1 - (0.05 - CONTACT_TOLERANCE)).abs() < 1e-8, "{:?}", p.inner);
+    assert!((p.inner()[0].1 - 0.05).abs() < 1e-8, "{:?}", p.inner());
     let table = Cuboid::new(PVec::splat(0.2));
     let obb = Obb::of(&table);
     let at = |d: f64| PPose::from_translation(PVec::new(-0.05, -0.05, 0.2 - d));
@@ -71,8 +71,8 @@ fn a_hulls_balls_prove_only_contacts_the_exact_test_finds() {
         let d = k as f64 * 5e-5;
         let proved = Cell::new(0);
         let box_at = (&PPose::IDENTITY, &table as &dyn Shape, &obb);
-        let with = collide_moving((&at(d), &p, &p.inner), box_at, &mut no_start(), &proved);
-        let without = collide_moving((&at(d), &p, &[]), box_at, &mut no_start(), &Cell::new(0));
+        let with = collide_moving((&at(d), &p, true), box_at, &mut no_start(), &proved);
+        let without = collide_moving((&at(d), &p, false), box_at, &mut no_start(), &Cell::new(0));
         assert_eq!(with, without, "{d}");
         if (d - CONTACT_TOLERANCE).abs() > 1e-6 {
             assert_eq!(without, d > CONTACT_TOLERANCE, "{d}");

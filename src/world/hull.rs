@@ -57,8 +57,10 @@ pub(crate) struct Hull {
     /// Its own box, parry's point-cloud box of `points` (asked for by the verifier's
     /// box-gap bound at every measure: a scan of every vertex each time).
     local_box: Aabb,
-    /// Balls inside the hull, the largest first (see [`inner`]).
-    inner: Box<[Ball]>,
+    /// Balls inside the hull, the largest first (see [`inner`]), found when first asked
+    /// for: a hull never near a box (most of a hand's) never needs them, and finding them
+    /// for a thousand faces costs about what loading the mesh does.
+    inner: OnceLock<Box<[Ball]>>,
 }
 
 /// The convex hull of a mesh as a shape, `None` when it is degenerate (flat or empty).
@@ -102,7 +104,7 @@ fn from_triangles(vertices: Vec<PVec>, triangles: &[[u32; 3]], closed: ClosedEdg
     let nbrs: Vec<u32> = edges.iter().map(|e| e.0).collect();
     let local_box = bounding_volume::details::local_point_cloud_aabb_ref(&vertices);
     let mut hull = Hull {
-        inner: inner::inner_balls(&vertices, triangles, &local_box).into(),
+        inner: OnceLock::new(),
         local_box,
         points: vertices,
         triangles: triangles.to_vec(),
@@ -210,7 +212,7 @@ impl Hull {
 
     /// Balls inside the hull, the largest first: a contact of one proves the hull's.
     pub fn inner(&self) -> &[Ball] {
-        &self.inner
+        self.inner.get_or_init(|| inner::inner_balls(&self.points, &self.triangles, &self.local_box).into())
     }
 
     /// The index of a vertex farthest along `dir`.

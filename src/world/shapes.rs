@@ -44,9 +44,6 @@ pub(crate) struct Placed {
     pub boxed: Boxed,
     /// The eroded shape's radius when it is a ball (a spherized link's).
     pub eroded_ball: Option<f64>,
-    /// A hull's balls inside it (see `hull::inner`), each eroded by the contact
-    /// tolerance: one meeting a box proves the shape overlaps it deeper than that.
-    pub inner: Box<[super::hull::Ball]>,
 }
 
 #[derive(Clone, Copy)]
@@ -60,6 +57,16 @@ pub(crate) enum Boxed {
 }
 
 impl Placed {
+    /// A hull's balls inside it (see `hull::inner`; none for any other shape): one that
+    /// meets a box deeper than the contact tolerance proves the shape does.
+    #[inline]
+    pub fn inner(&self) -> &[super::hull::Ball] {
+        match self.boxed {
+            Boxed::Hull => super::hull::inner_of(&*self.shape.0),
+            _ => &[],
+        }
+    }
+
     pub fn new(shape: SharedShape, pose: PPose) -> Placed {
         let eroded = erode(&shape, CONTACT_TOLERANCE);
         let obb = Obb::of(&*shape.0);
@@ -70,12 +77,7 @@ impl Placed {
             (None, None) => Boxed::Other,
         };
         let eroded_ball = eroded.as_ref().and_then(|e| e.as_ball()).map(|b| b.radius);
-        let inner = super::hull::inner_of(&*shape.0)
-            .iter()
-            .map(|&(c, r)| (c, r - CONTACT_TOLERANCE))
-            .filter(|&(_, r)| r > 0.0)
-            .collect();
-        Placed { shape, pose, eroded, obb, eroded_obb, boxed, eroded_ball, inner }
+        Placed { shape, pose, eroded, obb, eroded_obb, boxed, eroded_ball }
     }
 }
 
