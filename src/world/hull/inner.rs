@@ -88,12 +88,17 @@ pub(crate) fn inner_balls(points: &[PVec], triangles: &[[u32; 3]], bounds: &Aabb
             break;
         }
         let p = centres[i];
+        // A centre inside a ball kept stays inside (balls are only added): it would be
+        // passed over at its turn, so it is now, unmeasured.
+        if balls.iter().any(|(c, rc)| (p - *c).length() <= *rc) {
+            continue;
+        }
         if !exact {
             let r = radius(p, 1);
             if r >= SMALLEST {
                 queue.push((r.to_bits(), Reverse(i), true));
             }
-        } else if balls.iter().all(|(c, rc)| (p - *c).length() > *rc) {
+        } else {
             balls.push((p, f64::from_bits(bits)));
         }
     }
