@@ -115,20 +115,6 @@ fn polytope_depth(a: (&[PVec], &[[u32; 3]]), b: (&[PVec], &[[u32; 3]])) -> f64 {
     depth.max(0.0)
 }
 
-/// A box's corners and outward triangles.
-fn box_mesh(half: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
-    let corners: Vec<PVec> = (0..8)
-        .map(|k| {
-            PVec::new(
-                if k & 1 == 0 { -half.x } else { half.x },
-                if k & 2 == 0 { -half.y } else { half.y },
-                if k & 4 == 0 { -half.z } else { half.z },
-            )
-        })
-        .collect();
-    parry3d_f64::transformation::try_convex_hull(&corners).expect("a box")
-}
-
 #[test]
 fn deep_overlaps_proved_by_the_shrunk_box_are_deep_and_collide_answers_as_the_exact_depth_does() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -161,7 +147,7 @@ fn deep_overlaps_proved_by_the_shrunk_box_are_deep_and_collide_answers_as_the_ex
         // 2026-11-27); a depth within rounding of the tolerance decides nothing.
         let (corners, faces) = parry3d_f64::transformation::try_convex_hull(&pts).expect("a hull");
         let placed: Vec<PVec> = corners.iter().map(|p| pose * *p).collect();
-        let (box_corners, box_faces) = box_mesh(half);
+        let (box_corners, box_faces) = super::super::hull::box_mesh(half);
         let depth = polytope_depth((&placed, &faces), (&box_corners, &box_faces));
         if (depth - CONTACT_TOLERANCE).abs() < 1e-6 {
             continue;

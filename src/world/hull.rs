@@ -162,6 +162,21 @@ fn cell_centre(c: usize) -> PVec {
     }
 }
 
+/// A box's corners and outward triangles, as parry's hull gives them (for tests).
+#[cfg(test)]
+pub(crate) fn box_mesh(half: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
+    let corners: Vec<PVec> = (0..8)
+        .map(|k| {
+            PVec::new(
+                if k & 1 == 0 { -half.x } else { half.x },
+                if k & 2 == 0 { -half.y } else { half.y },
+                if k & 4 == 0 { -half.z } else { half.z },
+            )
+        })
+        .collect();
+    parry3d_f64::transformation::try_convex_hull(&corners).expect("a box")
+}
+
 /// The balls inside a hull of ours (none for any other shape).
 pub(crate) fn inner_of(s: &dyn Shape) -> &[Ball] {
     s.as_shape::<Hull>().map_or(&[], Hull::inner)

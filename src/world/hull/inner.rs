@@ -109,28 +109,12 @@ pub(crate) fn inner_balls(points: &[PVec], triangles: &[[u32; 3]], bounds: &Aabb
 mod tests {
     use super::*;
 
-    /// A box's twelve outward triangles.
-    fn cube(h: PVec) -> (Vec<PVec>, Vec<[u32; 3]>) {
-        let points: Vec<PVec> = (0..8)
-            .map(|i| {
-                PVec::new(
-                    if i & 1 == 0 { -h.x } else { h.x },
-                    if i & 2 == 0 { -h.y } else { h.y },
-                    if i & 4 == 0 { -h.z } else { h.z },
-                )
-            })
-            .collect();
-        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-        let triangles = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
-        (points, triangles)
-    }
-
     /// In a 40 x 10 x 10 cm bar, balls of radius 5 cm at most (the half width), none
     /// reaching out of the bar, and the first centred across the bar.
     #[test]
     fn a_bars_balls_lie_inside_it() {
         let h = PVec::new(0.2, 0.05, 0.05);
-        let (points, triangles) = cube(h);
+        let (points, triangles) = super::super::box_mesh(h);
         let bounds = Aabb::new(-h, h);
         let balls = inner_balls(&points, &triangles, &bounds);
         assert!(balls.len() >= 3, "{balls:?}");
@@ -148,7 +132,7 @@ mod tests {
     #[test]
     fn the_triangles_winding_does_not_matter() {
         let h = PVec::new(0.1, 0.07, 0.03);
-        let (points, triangles) = cube(h);
+        let (points, triangles) = super::super::box_mesh(h);
         let flipped: Vec<[u32; 3]> = triangles.iter().map(|t| [t[0], t[2], t[1]]).collect();
         let bounds = Aabb::new(-h, h);
         assert_eq!(inner_balls(&points, &triangles, &bounds), inner_balls(&points, &flipped, &bounds));
@@ -219,7 +203,7 @@ mod tests {
     #[test]
     fn a_thin_plate_keeps_no_ball() {
         let h = PVec::new(0.2, 0.2, 0.004);
-        let (points, triangles) = cube(h);
+        let (points, triangles) = super::super::box_mesh(h);
         assert!(inner_balls(&points, &triangles, &Aabb::new(-h, h)).is_empty());
     }
 }
