@@ -111,13 +111,13 @@ impl<'w> Cell<'w> {
                 }
             }
             // Self-collision over the unpruned pairs: contact only. A body's shapes, in
-            // order: their run of the posed list when they are one run (as posed by the
-            // world), else found by walking it.
+            // order: those of its run of the posed list when each body's are one run (as
+            // posed by the world), else of the whole list.
             let posed = &s.posed[ri];
             let runs = if again || g.self_pairs.is_empty() { None } else { body_runs(posed, g.bodies.len()) };
-            let of = |k: usize| match &runs {
-                Some(runs) => Either::Run(posed[runs[k].clone()].iter()),
-                None => Either::Walk(posed.iter().filter(move |x| x.body == k)),
+            let of = |k: usize| {
+                let within = runs.as_ref().map_or(0..posed.len(), |r| r[k].clone());
+                posed[within].iter().filter(move |x| x.body == k)
             };
             for &(a, b) in g.self_pairs.iter().filter(|_| !again) {
                 if of(a).any(|x| of(b).any(|y| near(Side::of(x), Side::of(y), 0.0).is_some())) {
@@ -289,23 +289,6 @@ fn body_runs(posed: &[PosedShape], bodies: usize) -> Option<Vec<std::ops::Range<
         *run = start..i;
     }
     Some(runs)
-}
-
-/// One of two iterators over the same items.
-#[derive(Clone)]
-enum Either<A, B> {
-    Run(A),
-    Walk(B),
-}
-
-impl<'a, A: Iterator<Item = &'a PosedShape>, B: Iterator<Item = &'a PosedShape>> Iterator for Either<A, B> {
-    type Item = &'a PosedShape;
-    fn next(&mut self) -> Option<&'a PosedShape> {
-        match self {
-            Either::Run(a) => a.next(),
-            Either::Walk(b) => b.next(),
-        }
-    }
 }
 
 #[cfg(test)]
