@@ -113,6 +113,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
         let analytic = if opts.closed_form_ik { Analytic::detect(&chain) } else { None };
         let redundant = if opts.closed_form_ik && analytic.is_none() { Redundant::detect(&chain) } else { None };
         let body_frames = RobotModel::frame_boxes(&bodies, &shapes, &postures);
+        let ball_packs = RobotModel::ball_packs(&bodies, &shapes, &postures);
         robots.push(RobotModel {
             analytic,
             redundant,
@@ -125,6 +126,7 @@ pub fn build(scn: &Scenario, opts: &WorldOptions, loader: &dyn Loader) -> Result
             self_pairs: Vec::new(),
             self_grids: Vec::new(),
             body_frames,
+            ball_packs,
             fast_check: true,
             allowed_pairs: Vec::new(),
             scene: Scene::new(Vec::new()),

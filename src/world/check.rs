@@ -402,21 +402,27 @@ fn check_posed(
                         continue;
                     }
                 }
-                pose_body(m, s, bi);
-                let hit = b.shapes.clone().any(|si| {
-                    let placed = &m.shapes[si].placed;
-                    let ball = placed.eroded_ball.filter(|_| m.fast_check && e.obb.exact);
-                    s.shape_aabb[si].intersects(&e.aabb)
-                        && ball
-                            .and_then(|r| {
-                                ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents)
-                            })
-                            .unwrap_or_else(|| {
-                                let dir = &mut s.separating[si * entries + leaf as usize];
-                                let (mover, other) =
-                                    ((&s.shape_pose[si], placed, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
-                                collide_moving(mover, other, dir, &ctx.inner_proved)
-                            })
+                // A body of balls against a box: all its balls at once, unplaced.
+                let pack = m.ball_packs[bi].as_ref().filter(|_| m.fast_check && e.obb.exact);
+                let packed =
+                    pack.and_then(|p| p.meets_box(posture, &s.link_pose[b.link], &e.pose, e.obb.cuboid.half_extents));
+                let hit = packed.unwrap_or_else(|| {
+                    pose_body(m, s, bi);
+                    b.shapes.clone().any(|si| {
+                        let placed = &m.shapes[si].placed;
+                        let ball = placed.eroded_ball.filter(|_| m.fast_check && e.obb.exact);
+                        s.shape_aabb[si].intersects(&e.aabb)
+                            && ball
+                                .and_then(|r| {
+                                    ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents)
+                                })
+                                .unwrap_or_else(|| {
+                                    let dir = &mut s.separating[si * entries + leaf as usize];
+                                    let (mover, other) =
+                                        ((&s.shape_pose[si], placed, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
+                                    collide_moving(mover, other, dir, &ctx.inner_proved)
+                                })
+                    })
                 });
                 if hit {
                     match e.owner {

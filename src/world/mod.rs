@@ -9,6 +9,7 @@
 
 mod analytic;
 mod analytic7;
+mod ball_pack;
 mod build;
 mod chain;
 mod check;

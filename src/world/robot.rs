@@ -8,6 +8,7 @@ use parry3d_f64::math::Pose as PPose;
 
 use super::analytic::Analytic;
 use super::analytic7::Redundant;
+use super::ball_pack::BallPack;
 use super::chain::{Chain, FingerJoint};
 use super::pair_grid::PairGrid;
 use super::scene::Scene;
@@ -48,6 +49,8 @@ pub(crate) struct RobotModel {
     /// Per body: a box in its link's frame holding its shapes in every posture, so that a
     /// check can bound the body before (or without) placing its shapes.
     pub body_frames: Vec<Obb>,
+    /// Per body: its balls as one pack, when it is made of balls only (see `ball_pack`).
+    pub ball_packs: Vec<Option<BallPack>>,
     /// Place a body's shapes only when needed (see `check::pose_robot`); off, every shape is
     /// placed at every check and a body's box is its shapes' (the plain check, for tests).
     pub fast_check: bool,
@@ -80,6 +83,11 @@ pub(crate) struct Posture {
 
 impl RobotModel {
     /// The boxes of [`RobotModel::body_frames`].
+    /// The packs of [`RobotModel::ball_packs`].
+    pub fn ball_packs(bodies: &[RBody], shapes: &[RShape], postures: &[Posture]) -> Vec<Option<BallPack>> {
+        bodies.iter().map(|b| BallPack::of(&shapes[b.shapes.clone()], b.shapes.start, postures)).collect()
+    }
+
     pub fn frame_boxes(bodies: &[RBody], shapes: &[RShape], postures: &[Posture]) -> Vec<Obb> {
         bodies
             .iter()

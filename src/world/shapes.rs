@@ -154,7 +154,7 @@ impl Obb {
 }
 
 /// Within this much (metres) of a ball's radius, a ball against a box is left to parry.
-const BALL_MARGIN: f64 = 1e-9;
+pub(crate) const BALL_MARGIN: f64 = 1e-9;
 
 /// A moving ball (centre `c`, eroded radius `r`) against a fixed box (half extents `he`
 /// at `p2`), decided by the distance from the centre to the box: what parry's
