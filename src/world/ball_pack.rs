@@ -22,21 +22,37 @@ pub(crate) struct BallPack {
     /// Per ball, `(r - margin)²`: nearer, a contact deeper than the tolerance; `-1` for a
     /// ball no larger than the margin (never a proof).
     inside: Vec<f64>,
+    /// Per ball its radius and eroded radius; `-inf` for the padding, whose gaps are then
+    /// infinite.
+    radius: Vec<f64>,
+    eroded: Vec<f64>,
+    /// Per set, a ball holding all of them (centre in the link's frame, radius): a ball of
+    /// the other body farther from it than the least gap so far is skipped whole.
+    bounds: Vec<(PVec, f64)>,
     /// The set of the shapes' own poses (the last).
     own: usize,
+}
+
+/// A pack's balls placed in the world: centres as columns (`x`, `y`, `z`, `n` each).
+#[derive(Default)]
+pub(crate) struct Placed {
+    centres: Vec<f64>,
+    /// The pack's bounding ball, placed.
+    bound: (PVec, f64),
 }
 
 impl BallPack {
     /// The pack of `shapes` (a body's) when every one is a ball with an eroded radius,
     /// whatever the posture; `None` otherwise.
     pub fn of(shapes: &[RShape], first: usize, postures: &[Posture]) -> Option<BallPack> {
-        let radii: Vec<f64> = shapes
+        let balls: Vec<(f64, f64)> = shapes
             .iter()
             .map(|s| match s.placed.boxed {
-                Boxed::Ball(_) => s.placed.eroded_ball,
+                Boxed::Ball(r) => s.placed.eroded_ball.map(|e| (r, e)),
                 _ => None,
             })
             .collect::<Option<_>>()?;
+        let radii: Vec<f64> = balls.iter().map(|b| b.1).collect();
         if radii.is_empty() {
             return None;
         }
@@ -58,7 +74,21 @@ impl BallPack {
                 inside[i] = (r - BALL_MARGIN) * (r - BALL_MARGIN);
             }
         }
-        Some(BallPack { n, centres, outside, inside, own: postures.len() })
+        let pad = |v: Vec<f64>| v.into_iter().chain(std::iter::repeat(f64::NEG_INFINITY)).take(n).collect();
+        let radius = pad(balls.iter().map(|b| b.0).collect());
+        let eroded = pad(radii);
+        let bounds = (0..=postures.len())
+            .map(|set| {
+                let at = |i: usize| {
+                    let c = &centres[set * 3 * n..];
+                    PVec::new(c[i], c[n + i], c[2 * n + i])
+                };
+                let k = balls.len();
+                let centre = (0..k).map(at).fold(PVec::ZERO, |a, c| a + c) / k as f64;
+                (centre, (0..k).map(|i| at(i).distance(centre) + balls[i].0).fold(0.0, f64::max))
+            })
+            .collect();
+        Some(BallPack { n, centres, outside, inside, radius, eroded, bounds, own: postures.len() })
     }
 
     /// Whether a ball of the body, its link at `link` and the fingers in `posture`, meets
@@ -67,11 +97,7 @@ impl BallPack {
     /// and sure of none meeting (the caller then asks ball by ball).
     #[inline]
     pub fn meets_box(&self, posture: usize, link: &PPose, bx: &PPose, he: PVec) -> Option<bool> {
-        let set = if posture < self.own { posture } else { self.own };
-        let n = self.n;
-        let c = &self.centres[set * 3 * n..(set + 1) * 3 * n];
-        let (xs, rest) = c.split_at(n);
-        let (ys, zs) = rest.split_at(n);
+        let (xs, ys, zs) = self.set(posture);
         let inv = bx.rotation.inverse();
         let m = Matrix::from_quat(inv * link.rotation);
         let v = inv * (link.translation - bx.translation);
@@ -99,12 +125,126 @@ impl BallPack {
         }
         (!unsure).then_some(false)
     }
+
+    /// The set of centres for `posture`.
+    fn set(&self, posture: usize) -> (&[f64], &[f64], &[f64]) {
+        let set = if posture < self.own { posture } else { self.own };
+        let n = self.n;
+        let c = &self.centres[set * 3 * n..(set + 1) * 3 * n];
+        let (xs, rest) = c.split_at(n);
+        let (ys, zs) = rest.split_at(n);
+        (xs, ys, zs)
+    }
+
+    /// Its balls' centres in the world, the link at `link` and the fingers in `posture`.
+    pub fn place(&self, posture: usize, link: &PPose, out: &mut Placed) {
+        let (xs, ys, zs) = self.set(posture);
+        let m = Matrix::from_quat(link.rotation);
+        let (n, t) = (self.n, link.translation);
+        let set = if posture < self.own { posture } else { self.own };
+        let (c, r) = self.bounds[set];
+        out.bound = (link.translation + link.rotation * c, r);
+        out.centres.resize(3 * n, 0.0);
+        let (ox, rest) = out.centres.split_at_mut(n);
+        let (oy, oz) = rest.split_at_mut(n);
+        for i in 0..n {
+            let (x, y, z) = (xs[i], ys[i], zs[i]);
+            ox[i] = m.x_axis.x * x + m.y_axis.x * y + m.z_axis.x * z + t.x;
+            oy[i] = m.x_axis.y * x + m.y_axis.y * y + m.z_axis.y * z + t.y;
+            oz[i] = m.x_axis.z * x + m.y_axis.z * y + m.z_axis.z * z + t.z;
+        }
+    }
+
+    /// The least gap between a ball of `self` (placed at `pa`) and one of `other` (at
+    /// `pb`), a pair's gap being its centres' distance less both radii (two balls'
+    /// distance); `limit` when none is below it. A pair is measured (a square root) only
+    /// when its squared centre distance says it may be below the least so far.
+    pub fn least_gap(&self, pa: &Placed, other: &BallPack, pb: &Placed, limit: f64) -> f64 {
+        let (n, m) = (self.n, other.n);
+        let (ax, ay, az) = columns(&pa.centres, n);
+        let (bx, by, bz) = columns(&pb.centres, m);
+        let mut best = limit;
+        let (bc, br) = pb.bound;
+        for i in 0..n {
+            let (x, y, z, r) = (ax[i], ay[i], az[i], self.radius[i]);
+            if !near_bound(PVec::new(x, y, z), best + r + br, bc) {
+                continue;
+            }
+            for k in (0..m).step_by(LANES) {
+                let mut near = false;
+                let mut d2 = [0.0; LANES];
+                for l in 0..LANES {
+                    let (dx, dy, dz) = (bx[k + l] - x, by[k + l] - y, bz[k + l] - z);
+                    d2[l] = dx * dx + dy * dy + dz * dz;
+                    let reach = best + r + other.radius[k + l];
+                    near |= reach > 0.0 && d2[l] < reach * reach;
+                }
+                if near {
+                    for (d2, rb) in d2.iter().zip(&other.radius[k..k + LANES]) {
+                        best = best.min(d2.sqrt() - r - rb);
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// Whether a ball of `self` (at `pa`) overlaps one of `other` (at `pb`) deeper than the
+    /// contact tolerance: `self`'s eroded ball meets `other`'s, as the exact test decides a
+    /// pair of balls; `None` when unsure of one pair (within [`BALL_MARGIN`] of touching)
+    /// and sure of none meeting.
+    pub fn meets(&self, pa: &Placed, other: &BallPack, pb: &Placed) -> Option<bool> {
+        let (n, m) = (self.n, other.n);
+        let (ax, ay, az) = columns(&pa.centres, n);
+        let (bx, by, bz) = columns(&pb.centres, m);
+        let mut unsure = false;
+        let (bc, br) = pb.bound;
+        for i in 0..n {
+            let (x, y, z, e) = (ax[i], ay[i], az[i], self.eroded[i]);
+            if !near_bound(PVec::new(x, y, z), e + br + BALL_MARGIN, bc) {
+                continue;
+            }
+            let mut hit = false;
+            for k in (0..m).step_by(LANES) {
+                for l in 0..LANES {
+                    let (dx, dy, dz) = (bx[k + l] - x, by[k + l] - y, bz[k + l] - z);
+                    let d2 = dx * dx + dy * dy + dz * dz;
+                    let reach = e + other.radius[k + l];
+                    // Padding reaches -inf: never near.
+                    let (inner, outer) = (reach - BALL_MARGIN, reach + BALL_MARGIN);
+                    hit |= inner > 0.0 && d2 < inner * inner;
+                    unsure |= outer >= 0.0 && d2 <= outer * outer || d2.is_nan();
+                }
+            }
+            if hit {
+                return Some(true);
+            }
+        }
+        (!unsure).then_some(false)
+    }
+}
+
+/// Whether `c` is nearer than `reach` to `centre` (never when `reach` is not positive:
+/// the padding's is `-inf`). Rounding aside, nothing farther can matter, so the test is
+/// widened by a micrometre.
+#[inline]
+fn near_bound(c: PVec, reach: f64, centre: PVec) -> bool {
+    let reach = reach + 1e-6;
+    reach > 0.0 && c.distance_squared(centre) < reach * reach
+}
+
+/// The three columns of `n` centres.
+fn columns(c: &[f64], n: usize) -> (&[f64], &[f64], &[f64]) {
+    let (xs, rest) = c[..3 * n].split_at(n);
+    let (ys, zs) = rest.split_at(n);
+    (xs, ys, zs)
 }
 
 #[cfg(test)]
 mod tests {
     use parry3d_f64::math::{Pose as PPose, Rotation, Vector as PVec};
-    use parry3d_f64::shape::SharedShape;
+    use parry3d_f64::query;
+    use parry3d_f64::shape::{Ball, SharedShape};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -185,6 +325,89 @@ mod tests {
         }
         // Both verdicts are common; unsure needs a ball within a nanometre of touching.
         assert!(seen[0] > 3000 && seen[1] > 3000, "{seen:?}");
+    }
+
+    /// A random body of balls, a posture moving some of them or none, and the shapes.
+    fn random_body(rng: &mut ChaCha8Rng) -> (Vec<RShape>, Vec<Posture>) {
+        let n = rng.random_range(1..12);
+        let shapes: Vec<RShape> = (0..n)
+            .map(|_| {
+                let pose = PPose::from_parts(near(rng, 0.15), Rotation::IDENTITY);
+                let ball = SharedShape::ball(rng.random_range(0.003..0.06));
+                RShape { body: 0, placed: Placed::new(ball, pose), unturned: true }
+            })
+            .collect();
+        let postures = match rng.random_bool(0.5) {
+            true => vec![Posture {
+                values: vec![],
+                poses: shapes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, s)| {
+                        let shift = if i % 3 == 0 { near(rng, 0.05) } else { PVec::ZERO };
+                        PPose::from_parts(s.placed.pose.translation + shift, Rotation::IDENTITY)
+                    })
+                    .collect(),
+            }],
+            false => vec![],
+        };
+        (shapes, postures)
+    }
+
+    /// Two random bodies of balls at random link poses: the least gap is the least of every
+    /// pair's distance (parry's), or the limit when that is less (negative for balls that
+    /// overlap); the overlap test says
+    /// what parry's intersection test of each eroded ball with each ball says.
+    #[test]
+    fn two_packs_measure_and_meet_as_their_balls_do() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut met, mut apart, mut limited) = (0, 0, 0);
+        for _ in 0..4000 {
+            let (sa, posa) = random_body(&mut rng);
+            let (sb, posb) = random_body(&mut rng);
+            let (pa, pb) = (BallPack::of(&sa, 0, &posa).expect("balls"), BallPack::of(&sb, 0, &posb).expect("balls"));
+            let (la, lb) = (
+                PPose::from_parts(near(&mut rng, 0.2), turn(&mut rng)),
+                PPose::from_parts(near(&mut rng, 0.2), turn(&mut rng)),
+            );
+            let posture = rng.random_range(0..2);
+            let (mut wa, mut wb) = (super::Placed::default(), super::Placed::default());
+            pa.place(posture, &la, &mut wa);
+            pb.place(posture, &lb, &mut wb);
+            let balls = |shapes: &[RShape], postures: &[Posture], link: &PPose| -> Vec<(PPose, f64, f64)> {
+                shapes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, s)| {
+                        let pose = postures.get(posture).map_or(&s.placed.pose, |p| &p.poses[i]);
+                        let r = s.placed.shape.as_ball().expect("a ball").radius;
+                        (place(link, pose, true), r, s.placed.eroded_ball.expect("a ball"))
+                    })
+                    .collect()
+            };
+            let (ba, bb) = (balls(&sa, &posa, &la), balls(&sb, &posb, &lb));
+            let mut least = f64::INFINITY;
+            let mut meets = false;
+            for (pi, ri, ei) in &ba {
+                for (pj, rj, _) in &bb {
+                    let (i, j) = (Ball::new(*ri), Ball::new(*rj));
+                    least = least.min(query::distance(pi, &i, pj, &j).expect("balls").distance);
+                    meets |= query::intersection_test(pi, &Ball::new(*ei), pj, &j).expect("balls").intersecting;
+                }
+            }
+            let limit = rng.random_range(0.0..0.05);
+            let gap = pa.least_gap(&wa, &pb, &wb, limit);
+            // parry's distance of overlapping balls is 0; the gap is then negative.
+            match least > 0.0 {
+                true => assert!((gap - least.min(limit)).abs() < 1e-12, "{gap} against {least} (limit {limit})"),
+                false => assert!(gap <= 0.0, "{gap} for overlapping balls"),
+            }
+            limited += usize::from(least > limit);
+            assert_eq!(pa.meets(&wa, &pb, &wb), Some(meets));
+            (met, apart) = (met + usize::from(meets), apart + usize::from(!meets && least < limit));
+        }
+        // Overlaps, near misses measured, and pairs past the limit all common.
+        assert!(met > 500 && apart > 100 && limited > 500, "{met} {apart} {limited}");
     }
 
     /// A ball whose eroded radius exactly reaches the box's face is left to the caller, and

@@ -257,6 +257,8 @@ pub(super) struct Scratch {
     /// The same per pair of the robot's own shapes (`first * shapes + second`, in the
     /// order [`bodies_collide`] tests them).
     self_separating: Vec<PVec>,
+    /// Two bodies' balls placed (see [`bodies_collide`]).
+    packed: [super::ball_pack::Placed; 2],
 }
 
 thread_local! {
@@ -459,8 +461,6 @@ fn check_posed(
                     continue;
                 }
             }
-            pose_body(m, s, a);
-            pose_body(m, s, b);
             if bodies_collide(m, s, a, b) {
                 return Check::Blocked(Blocker::SelfCollision {
                     link_a: m.bodies[a].name.clone(),
@@ -527,6 +527,17 @@ fn check_posed(
 }
 
 pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize) -> bool {
+    // Two bodies of balls: every pair of their balls at once, unplaced.
+    if let (Some(pa), Some(pb), true) = (&m.ball_packs[a], &m.ball_packs[b], m.fast_check) {
+        let [wa, wb] = &mut s.packed;
+        pa.place(s.posture, &s.link_pose[m.bodies[a].link], wa);
+        pb.place(s.posture, &s.link_pose[m.bodies[b].link], wb);
+        if let Some(meets) = pa.meets(wa, pb, wb) {
+            return meets;
+        }
+    }
+    pose_body(m, s, a);
+    pose_body(m, s, b);
     let n = m.shapes.len();
     if s.self_separating.len() != n * n {
         s.self_separating.clear();

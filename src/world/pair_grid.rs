@@ -234,6 +234,8 @@ pub(crate) struct Measure {
     /// visits along a motion are next to each other, and GJK from the last one's simplex
     /// ends in a step or two (the bound holds from any start).
     starts: std::collections::HashMap<(usize, usize), GjkStart>,
+    /// Two bodies' balls placed, when both are balls only.
+    packed: [super::ball_pack::Placed; 2],
 }
 
 /// A lower bound on the distance between bodies `a` and `b` (fingers open) at `s.q`, within
@@ -243,9 +245,17 @@ pub(crate) struct Measure {
 /// are nearer than `enough` and than the nearest pair so far, by its bounding boxes, and
 /// only then measured.
 pub(crate) fn body_distance(m: &RobotModel, a: usize, b: usize, enough: f64, s: &mut Measure) -> Option<f64> {
-    let Measure { q, links, posed, starts } = s;
+    let Measure { q, links, posed, starts, packed } = s;
     links.resize(m.chain.links.len(), Isometry3::identity());
     m.chain.fk_upto(q, m.bodies[a].link.max(m.bodies[b].link), links);
+    // Two bodies of balls: their least gap, every pair of balls at once.
+    if let (Some(pa), Some(pb)) = (&m.ball_packs[a], &m.ball_packs[b]) {
+        let [wa, wb] = packed;
+        pa.place(OPEN, &to_ppose(&links[m.bodies[a].link]), wa);
+        pb.place(OPEN, &to_ppose(&links[m.bodies[b].link]), wb);
+        // Past `enough` any value past it will do (see below).
+        return Some(pa.least_gap(wa, pb, wb, enough));
+    }
     for (k, body) in [a, b].into_iter().enumerate() {
         let link = to_ppose(&links[m.bodies[body].link]);
         posed[k].clear();
