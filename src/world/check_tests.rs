@@ -1,16 +1,13 @@
-//! Tests of `check.rs` and its narrow phase (`narrow.rs`): the moving hulls' boxes, deep
-//! overlaps proved without EPA, and a segment's samples the same either way.
+//! Tests of `check.rs`: the moving hulls' boxes, deep overlaps proved without EPA, and a
+//! segment's samples the same either way.
 
 use parry3d_f64::math::{Rotation, Vector as PVec};
-use parry3d_f64::query;
-use parry3d_f64::query::gjk::{CsoPoint, VoronoiSimplex};
-use parry3d_f64::shape::{Cuboid, Shape, SharedShape};
+use parry3d_f64::query::gjk::CsoPoint;
+use parry3d_f64::shape::SharedShape;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::*;
-use crate::world::narrow::*;
-use crate::world::shapes::{Obb, CONTACT_TOLERANCE};
 
 #[test]
 fn a_moving_hulls_box_holds_its_exact_box_in_any_pose() {

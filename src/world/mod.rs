@@ -22,7 +22,6 @@ mod ik;
 mod labels;
 mod load;
 mod lower_bound;
-mod narrow;
 mod pair_grid;
 mod proximity;
 mod robot;
