@@ -1,8 +1,9 @@
 //! One labelled check of a TX-90 with an SAH hand against a table and 10 or 200
 //! removable objects, cycling through 256 seeded random configurations (the 10-object
 //! cell also without the check's shortcuts, `_plain`, and with the TX-90 of meshes of
-//! `../shared`); and the inverse kinematics of one grasp pose, all solutions, and of one
-//! pose of the shared Panda (7 joints) in closed form and by the numeric solver.
+//! `../shared`), and of the Panda of spheres of `../shared` in a narrow gap; and the
+//! inverse kinematics of one grasp pose, all solutions, and of one pose of the shared
+//! Panda (7 joints) in closed form and by the numeric solver.
 //!
 //! Measured twice: wall time (criterion's default), and the benchmark thread's own
 //! CPU time (`CLOCK_THREAD_CPUTIME_ID`), which is what one core spends per
@@ -124,6 +125,52 @@ fn panda(opts: &WorldOptions) -> Option<World> {
     Some(build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}")))
 }
 
+/// The shared Panda of spheres (`vamp/panda_spherized.urdf`) between the walls of a narrow
+/// gap (the benchmark family's problem 34: a table, two walls, a shelf board above and
+/// below the gap, four boxes on the floor), `None` when ../shared is absent.
+fn panda_spheres_gap() -> Option<World> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let urdf = root.join("../shared/robots/panda/vamp/panda_spherized.urdf");
+    if !urdf.is_file() {
+        eprintln!("skipped the Panda of spheres: {} is absent", urdf.display());
+        return None;
+    }
+    let robot = robot("panda", urdf, None, vec![0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785]);
+    let q = robot.home.clone();
+    let turned = |x: f64, y: f64, z: f64| {
+        Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(0.0, 0.0, -0.592_68))
+    };
+    let slab = |name: &str, (dx, dy, dz): (f64, f64, f64), (x, y, z): (f64, f64, f64)| {
+        body(name.into(), Shape::Box { size: Vector3::new(dx, dy, dz) }, turned(x, y, z))
+    };
+    let fixed = vec![
+        body("table".into(), Shape::Box { size: Vector3::new(1.6, 1.6, 0.04) }, at(0.0, 0.0, -0.02)),
+        slab("o0", (0.02, 0.5, 0.871), (0.5922, 0.0218, 0.4354)),
+        slab("o1", (0.02, 0.5, 0.871), (0.2024, -0.5570, 0.4354)),
+        slab("o2", (0.02, 0.198, 0.372), (0.3973, -0.2676, 0.1860)),
+        slab("o3", (0.02, 0.198, 0.301), (0.3973, -0.2676, 0.7203)),
+    ];
+    let objects = [(0.4297, -0.0762), (0.2362, -0.3636), (0.4667, -0.0212), (0.1956, -0.4239)]
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| Object {
+            body: slab(&format!("o{}", i + 4), (0.05, 0.05, 0.1), (x, y, 0.05)),
+            grasps: vec![],
+        })
+        .collect();
+    let scn = Scenario {
+        name: None,
+        root: root.join("bench.dcl"),
+        hands: vec![],
+        robots: vec![robot],
+        fixed,
+        objects,
+        target: Target::Config { robot: RobotId(0), q, span: Span::default() },
+        planner: PlannerSettings::default(),
+    };
+    Some(build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}")))
+}
+
 fn configs(w: &World) -> Vec<Vec<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let lim = w.limits(RobotId(0)).to_vec();
@@ -178,6 +225,10 @@ fn bench<M: Measurement + 'static>(c: &mut Criterion<M>, tag: &str) {
         cells.push(("tx90_mesh_sah_table_10_objects".into(), world_of(meshes, 10, &WorldOptions::default())));
     } else {
         eprintln!("skipped the mesh TX-90: {} is absent", meshes.display());
+    }
+    // The Panda of spheres in a narrow gap: its bodies of balls (see `world/ball_pack.rs`).
+    if let Some(w) = panda_spheres_gap() {
+        cells.push(("panda_spheres_narrow_gap".into(), w));
     }
     for (name, w) in &cells {
         let qs = configs(w);
