@@ -1,6 +1,8 @@
-//! A body of balls only (a spherized link) tested against a box all at once: its centres
+//! A body of balls only (a spherized link) tested all at once: against a box, its centres
 //! taken straight into the box's frame by one matrix, instead of each ball placed in the
-//! world, bounded, and tested on its own (most of a spherized arm's check went there).
+//! world, bounded, and tested on its own (most of a spherized arm's check went there);
+//! against another body of balls (self-collision, and a self-collision grid's measure),
+//! pair by pair on squared distances, skipping the balls far from the other body.
 
 use parry3d_f64::math::{Matrix, Pose as PPose, Vector as PVec};
 
@@ -35,7 +37,7 @@ pub(crate) struct BallPack {
 
 /// A pack's balls placed in the world: centres as columns (`x`, `y`, `z`, `n` each).
 #[derive(Default)]
-pub(crate) struct Placed {
+pub(crate) struct PlacedBalls {
     centres: Vec<f64>,
     /// The pack's bounding ball, placed.
     bound: (PVec, f64),
@@ -137,7 +139,7 @@ impl BallPack {
     }
 
     /// Its balls' centres in the world, the link at `link` and the fingers in `posture`.
-    pub fn place(&self, posture: usize, link: &PPose, out: &mut Placed) {
+    pub fn place(&self, posture: usize, link: &PPose, out: &mut PlacedBalls) {
         let (xs, ys, zs) = self.set(posture);
         let m = Matrix::from_quat(link.rotation);
         let (n, t) = (self.n, link.translation);
@@ -159,7 +161,7 @@ impl BallPack {
     /// `pb`), a pair's gap being its centres' distance less both radii (two balls'
     /// distance); `limit` when none is below it. A pair is measured (a square root) only
     /// when its squared centre distance says it may be below the least so far.
-    pub fn least_gap(&self, pa: &Placed, other: &BallPack, pb: &Placed, limit: f64) -> f64 {
+    pub fn least_gap(&self, pa: &PlacedBalls, other: &BallPack, pb: &PlacedBalls, limit: f64) -> f64 {
         let (n, m) = (self.n, other.n);
         let (ax, ay, az) = columns(&pa.centres, n);
         let (bx, by, bz) = columns(&pb.centres, m);
@@ -193,7 +195,7 @@ impl BallPack {
     /// contact tolerance: `self`'s eroded ball meets `other`'s, as the exact test decides a
     /// pair of balls; `None` when unsure of one pair (within [`BALL_MARGIN`] of touching)
     /// and sure of none meeting.
-    pub fn meets(&self, pa: &Placed, other: &BallPack, pb: &Placed) -> Option<bool> {
+    pub fn meets(&self, pa: &PlacedBalls, other: &BallPack, pb: &PlacedBalls) -> Option<bool> {
         let (n, m) = (self.n, other.n);
         let (ax, ay, az) = columns(&pa.centres, n);
         let (bx, by, bz) = columns(&pb.centres, m);
@@ -224,13 +226,14 @@ impl BallPack {
     }
 }
 
-/// Whether `c` is nearer than `reach` to `centre` (never when `reach` is not positive:
-/// the padding's is `-inf`). Rounding aside, nothing farther can matter, so the test is
-/// widened by a micrometre.
+/// Whether `c` may be nearer than `reach` to `centre`: never when `reach` is not positive
+/// (the padding's is `-inf`), always when `c` is not a number (the pairs then say unsure).
+/// Rounding aside, nothing farther can matter, so the test is widened by a micrometre.
 #[inline]
 fn near_bound(c: PVec, reach: f64, centre: PVec) -> bool {
     let reach = reach + 1e-6;
-    reach > 0.0 && c.distance_squared(centre) < reach * reach
+    let d2 = c.distance_squared(centre);
+    reach > 0.0 && (d2 < reach * reach || d2.is_nan())
 }
 
 /// The three columns of `n` centres.
@@ -371,7 +374,7 @@ mod tests {
                 PPose::from_parts(near(&mut rng, 0.2), turn(&mut rng)),
             );
             let posture = rng.random_range(0..2);
-            let (mut wa, mut wb) = (super::Placed::default(), super::Placed::default());
+            let (mut wa, mut wb) = (super::PlacedBalls::default(), super::PlacedBalls::default());
             pa.place(posture, &la, &mut wa);
             pb.place(posture, &lb, &mut wb);
             let balls = |shapes: &[RShape], postures: &[Posture], link: &PPose| -> Vec<(PPose, f64, f64)> {
@@ -423,6 +426,22 @@ mod tests {
         assert_eq!(pack.meets_box(0, &at(0.1 + r), &PPose::IDENTITY, he), None);
         assert_eq!(pack.meets_box(0, &at(0.1 + r - 1e-6), &PPose::IDENTITY, he), Some(true));
         assert_eq!(pack.meets_box(0, &at(0.1 + r + 1e-6), &PPose::IDENTITY, he), Some(false));
+    }
+
+    /// A link pose that is not a number is never found apart (a meeting or unsure; the
+    /// check's limits test blocks such a configuration before any of this).
+    #[test]
+    fn a_pose_not_a_number_is_never_apart() {
+        let shapes =
+            vec![RShape { body: 0, placed: Placed::new(SharedShape::ball(0.05), PPose::IDENTITY), unturned: true }];
+        let pack = BallPack::of(&shapes, 0, &[]).expect("balls only");
+        let nan = PPose::from_parts(PVec::new(f64::NAN, 0.0, 0.0), Rotation::IDENTITY);
+        assert_ne!(pack.meets_box(0, &nan, &PPose::IDENTITY, PVec::splat(0.1)), Some(false));
+        let (mut wa, mut wb) = (super::PlacedBalls::default(), super::PlacedBalls::default());
+        pack.place(0, &nan, &mut wa);
+        pack.place(0, &PPose::IDENTITY, &mut wb);
+        assert_ne!(pack.meets(&wa, &pack, &wb), Some(false));
+        assert_ne!(pack.meets(&wb, &pack, &wa), Some(false));
     }
 
     /// Not a pack: a body with a shape other than a ball.

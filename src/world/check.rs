@@ -258,7 +258,7 @@ pub(super) struct Scratch {
     /// order [`bodies_collide`] tests them).
     self_separating: Vec<PVec>,
     /// Two bodies' balls placed (see [`bodies_collide`]).
-    packed: [super::ball_pack::Placed; 2],
+    packed: [super::ball_pack::PlacedBalls; 2],
 }
 
 thread_local! {

@@ -235,7 +235,7 @@ pub(crate) struct Measure {
     /// ends in a step or two (the bound holds from any start).
     starts: std::collections::HashMap<(usize, usize), GjkStart>,
     /// Two bodies' balls placed, when both are balls only.
-    packed: [super::ball_pack::Placed; 2],
+    packed: [super::ball_pack::PlacedBalls; 2],
 }
 
 /// A lower bound on the distance between bodies `a` and `b` (fingers open) at `s.q`, within

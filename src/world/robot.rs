@@ -82,12 +82,12 @@ pub(crate) struct Posture {
 }
 
 impl RobotModel {
-    /// The boxes of [`RobotModel::body_frames`].
     /// The packs of [`RobotModel::ball_packs`].
     pub fn ball_packs(bodies: &[RBody], shapes: &[RShape], postures: &[Posture]) -> Vec<Option<BallPack>> {
         bodies.iter().map(|b| BallPack::of(&shapes[b.shapes.clone()], b.shapes.start, postures)).collect()
     }
 
+    /// The boxes of [`RobotModel::body_frames`].
     pub fn frame_boxes(bodies: &[RBody], shapes: &[RShape], postures: &[Posture]) -> Vec<Obb> {
         bodies
             .iter()
