@@ -173,13 +173,11 @@ impl BallPack {
                 continue;
             }
             for k in (0..m).step_by(LANES) {
+                let d2 = squared_distances((x, y, z), (bx, by, bz), k);
                 let mut near = false;
-                let mut d2 = [0.0; LANES];
-                for l in 0..LANES {
-                    let (dx, dy, dz) = (bx[k + l] - x, by[k + l] - y, bz[k + l] - z);
-                    d2[l] = dx * dx + dy * dy + dz * dz;
-                    let reach = best + r + other.radius[k + l];
-                    near |= reach > 0.0 && d2[l] < reach * reach;
+                for (d2, rb) in d2.iter().zip(&other.radius[k..k + LANES]) {
+                    let reach = best + r + rb;
+                    near |= reach > 0.0 && *d2 < reach * reach;
                 }
                 if near {
                     for (d2, rb) in d2.iter().zip(&other.radius[k..k + LANES]) {
@@ -208,14 +206,13 @@ impl BallPack {
             }
             let mut hit = false;
             for k in (0..m).step_by(LANES) {
-                for l in 0..LANES {
-                    let (dx, dy, dz) = (bx[k + l] - x, by[k + l] - y, bz[k + l] - z);
-                    let d2 = dx * dx + dy * dy + dz * dz;
-                    let reach = e + other.radius[k + l];
+                let d2 = squared_distances((x, y, z), (bx, by, bz), k);
+                for (d2, rb) in d2.iter().zip(&other.radius[k..k + LANES]) {
+                    let reach = e + rb;
                     // Padding reaches -inf: never near.
                     let (inner, outer) = (reach - BALL_MARGIN, reach + BALL_MARGIN);
-                    hit |= inner > 0.0 && d2 < inner * inner;
-                    unsure |= outer >= 0.0 && d2 <= outer * outer || d2.is_nan();
+                    hit |= inner > 0.0 && *d2 < inner * inner;
+                    unsure |= outer >= 0.0 && *d2 <= outer * outer || d2.is_nan();
                 }
             }
             if hit {
@@ -234,6 +231,15 @@ fn near_bound(c: PVec, reach: f64, centre: PVec) -> bool {
     let reach = reach + 1e-6;
     let d2 = c.distance_squared(centre);
     reach > 0.0 && (d2 < reach * reach || d2.is_nan())
+}
+
+/// The squared distances from `(x, y, z)` to the centres `k..k + LANES` of `columns`.
+#[inline(always)]
+fn squared_distances((x, y, z): (f64, f64, f64), (bx, by, bz): (&[f64], &[f64], &[f64]), k: usize) -> [f64; LANES] {
+    std::array::from_fn(|l| {
+        let (dx, dy, dz) = (bx[k + l] - x, by[k + l] - y, bz[k + l] - z);
+        dx * dx + dy * dy + dz * dz
+    })
 }
 
 /// The three columns of `n` centres.
