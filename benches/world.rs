@@ -101,42 +101,40 @@ fn world_of(urdf: PathBuf, objects: usize, opts: &WorldOptions) -> World {
     build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}"))
 }
 
-/// The shared Panda alone on the floor, no hand (`None` when ../shared is absent).
-fn panda(opts: &WorldOptions) -> Option<World> {
+/// A Panda of `../shared/robots/panda/` (`path` in it) at its home, no hand, among `fixed`
+/// and `objects`, a configuration target; `None` when ../shared is absent.
+fn panda_among(path: &str, fixed: Vec<Body>, objects: Vec<Object>, opts: &WorldOptions) -> Option<World> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let urdf = root.join("../shared/robots/panda/example-robot-data/robots/panda_description/urdf/panda.urdf");
+    let urdf = root.join("../shared/robots/panda").join(path);
     if !urdf.is_file() {
-        eprintln!("skipped the Panda: {} is absent", urdf.display());
+        eprintln!("skipped a Panda: {} is absent", urdf.display());
         return None;
     }
     let robot = robot("panda", urdf, None, vec![0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785]);
     let q = robot.home.clone();
-    let floor = body("floor".into(), Shape::Box { size: Vector3::new(1.6, 1.6, 0.04) }, at(0.0, 0.0, -0.02));
     let scn = Scenario {
         name: None,
         root: root.join("bench.dcl"),
         hands: vec![],
         robots: vec![robot],
-        fixed: vec![floor],
-        objects: vec![],
+        fixed,
+        objects,
         target: Target::Config { robot: RobotId(0), q, span: Span::default() },
         planner: PlannerSettings::default(),
     };
     Some(build(&scn, opts, &FsLoader).unwrap_or_else(|e| panic!("{e:?}")))
 }
 
+/// The shared Panda alone on the floor, no hand.
+fn panda(opts: &WorldOptions) -> Option<World> {
+    let floor = body("floor".into(), Shape::Box { size: Vector3::new(1.6, 1.6, 0.04) }, at(0.0, 0.0, -0.02));
+    panda_among("example-robot-data/robots/panda_description/urdf/panda.urdf", vec![floor], vec![], opts)
+}
+
 /// The shared Panda of spheres (`vamp/panda_spherized.urdf`) between the walls of a narrow
 /// gap (the benchmark family's problem 34: a table, two walls, a shelf board above and
-/// below the gap, four boxes on the floor), `None` when ../shared is absent.
+/// below the gap, four boxes on the floor).
 fn panda_spheres_gap() -> Option<World> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let urdf = root.join("../shared/robots/panda/vamp/panda_spherized.urdf");
-    if !urdf.is_file() {
-        eprintln!("skipped the Panda of spheres: {} is absent", urdf.display());
-        return None;
-    }
-    let robot = robot("panda", urdf, None, vec![0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785]);
-    let q = robot.home.clone();
     let turned = |x: f64, y: f64, z: f64| {
         Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(0.0, 0.0, -0.592_68))
     };
@@ -158,17 +156,7 @@ fn panda_spheres_gap() -> Option<World> {
             grasps: vec![],
         })
         .collect();
-    let scn = Scenario {
-        name: None,
-        root: root.join("bench.dcl"),
-        hands: vec![],
-        robots: vec![robot],
-        fixed,
-        objects,
-        target: Target::Config { robot: RobotId(0), q, span: Span::default() },
-        planner: PlannerSettings::default(),
-    };
-    Some(build(&scn, &WorldOptions::default(), &FsLoader).unwrap_or_else(|e| panic!("{e:?}")))
+    panda_among("vamp/panda_spherized.urdf", fixed, objects, &WorldOptions::default())
 }
 
 fn configs(w: &World) -> Vec<Vec<f64>> {

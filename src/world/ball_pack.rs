@@ -54,11 +54,10 @@ impl BallPack {
                 _ => None,
             })
             .collect::<Option<_>>()?;
-        let radii: Vec<f64> = balls.iter().map(|b| b.1).collect();
-        if radii.is_empty() {
+        if balls.is_empty() {
             return None;
         }
-        let n = radii.len().div_ceil(LANES) * LANES;
+        let n = balls.len().div_ceil(LANES) * LANES;
         let mut centres = Vec::with_capacity((postures.len() + 1) * 3 * n);
         for set in 0..=postures.len() {
             let pose = |i: usize| {
@@ -66,11 +65,11 @@ impl BallPack {
                 postures.get(set).and_then(|p| p.poses.get(si)).unwrap_or(&shapes[i].placed.pose).translation
             };
             for axis in 0..3 {
-                centres.extend((0..n).map(|i| if i < radii.len() { pose(i)[axis] } else { 0.0 }));
+                centres.extend((0..n).map(|i| if i < balls.len() { pose(i)[axis] } else { 0.0 }));
             }
         }
         let (mut outside, mut inside) = (vec![-1.0; n], vec![-1.0; n]);
-        for (i, r) in radii.iter().enumerate() {
+        for (i, (_, r)) in balls.iter().enumerate() {
             outside[i] = (r + BALL_MARGIN) * (r + BALL_MARGIN);
             if *r > BALL_MARGIN {
                 inside[i] = (r - BALL_MARGIN) * (r - BALL_MARGIN);
@@ -78,7 +77,7 @@ impl BallPack {
         }
         let pad = |v: Vec<f64>| v.into_iter().chain(std::iter::repeat(f64::NEG_INFINITY)).take(n).collect();
         let radius = pad(balls.iter().map(|b| b.0).collect());
-        let eroded = pad(radii);
+        let eroded = pad(balls.iter().map(|b| b.1).collect());
         let bounds = (0..=postures.len())
             .map(|set| {
                 let at = |i: usize| {
@@ -128,10 +127,14 @@ impl BallPack {
         (!unsure).then_some(false)
     }
 
+    /// The posture set for `posture`: its own, or the shapes' own poses.
+    fn set_of(&self, posture: usize) -> usize {
+        posture.min(self.own)
+    }
+
     /// The set of centres for `posture`.
     fn set(&self, posture: usize) -> (&[f64], &[f64], &[f64]) {
-        let set = if posture < self.own { posture } else { self.own };
-        let n = self.n;
+        let (set, n) = (self.set_of(posture), self.n);
         let c = &self.centres[set * 3 * n..(set + 1) * 3 * n];
         let (xs, rest) = c.split_at(n);
         let (ys, zs) = rest.split_at(n);
@@ -143,8 +146,7 @@ impl BallPack {
         let (xs, ys, zs) = self.set(posture);
         let m = Matrix::from_quat(link.rotation);
         let (n, t) = (self.n, link.translation);
-        let set = if posture < self.own { posture } else { self.own };
-        let (c, r) = self.bounds[set];
+        let (c, r) = self.bounds[self.set_of(posture)];
         out.bound = (link.translation + link.rotation * c, r);
         out.centres.resize(3 * n, 0.0);
         let (ox, rest) = out.centres.split_at_mut(n);
