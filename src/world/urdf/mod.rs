@@ -7,7 +7,13 @@
 
 use std::collections::HashMap;
 
-use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Quaternion, Translation3, Unit, UnitQuaternion, Vector3};
+
+mod read;
+#[cfg(test)]
+mod read_tests;
+
+use read::{JointKind, RawLimit, RawPose, RawShape, Turn};
 
 /// What can be wrong with a URDF text.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,8 +37,8 @@ pub(crate) const MAX_LENGTH: f64 = 1e6;
 /// configurations is meaningless; a joint that turns freely is `continuous`.
 pub(crate) const MAX_TRAVEL: f64 = 1e3;
 
-/// Velocity limit (rad/s or m/s) of a movable joint whose URDF gives none (urdf-rs
-/// reads an absent `velocity` as 0), or a non-positive or non-finite one: a cautious
+/// Velocity limit (rad/s or m/s) of a movable joint whose URDF gives none (URDF 1.2
+/// leaves an absent `velocity` open), or a non-positive or non-finite one: a cautious
 /// figure rather than an error, since collision checking never needs it and many
 /// hand-written URDFs leave it at 0. Continuous joints have no `<limit>` at all.
 pub const DEFAULT_VELOCITY: f64 = 1.0;
@@ -107,28 +113,38 @@ impl Model {
 }
 
 /// The pose of an `<origin>`, or why it is unusable (`what` names the element).
-pub(crate) fn pose_of(p: &urdf_rs::Pose, what: &str) -> Result<Isometry3<f64>, UrdfProblem> {
-    let [x, y, z] = p.xyz.0;
-    let [r, pi, ya] = p.rpy.0;
+fn pose_of(p: &RawPose, what: &str) -> Result<Isometry3<f64>, UrdfProblem> {
+    let [x, y, z] = p.xyz;
+    let (turn, finite): (&[f64], _) = match &p.turn {
+        Turn::Rpy(rpy) => (rpy, true),
+        // A quaternion is normalised, as urdfdom does; one of length zero has no direction.
+        Turn::Quat(q) => (q, q.iter().any(|v| *v != 0.0)),
+    };
     // NaN or inf would make every shape's AABB NaN, and a NaN box never intersects
     // anything: collision would be off for the link without a word.
-    if !(p.xyz.0.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && p.rpy.0.iter().all(|v| v.is_finite())) {
+    if !(p.xyz.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && turn.iter().all(|v| v.is_finite()) && finite) {
         return Err(UrdfProblem::Structure(format!(
-            "{what} has an <origin> that is not finite or beyond {MAX_LENGTH} m (xyz {:?}, rpy {:?})",
-            p.xyz.0, p.rpy.0
+            "{what} has an <origin> that is not finite or beyond {MAX_LENGTH} m (xyz {:?}, {})",
+            p.xyz,
+            match &p.turn {
+                Turn::Rpy(rpy) => format!("rpy {rpy:?}"),
+                Turn::Quat(q) => format!("quat_xyzw {q:?}"),
+            }
         )));
     }
-    Ok(Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, ya)))
+    let rotation = match p.turn {
+        Turn::Rpy([r, pi, ya]) => UnitQuaternion::from_euler_angles(r, pi, ya),
+        Turn::Quat([qx, qy, qz, qw]) => UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz)),
+    };
+    Ok(Isometry3::from_parts(Translation3::new(x, y, z), rotation))
 }
 
 /// Limits of a revolute or prismatic joint: required, finite, ordered and not absurd.
-fn checked_limits(j: &urdf_rs::Joint) -> Result<(f64, f64), UrdfProblem> {
-    let l = &j.limit;
-    let bad = |reason: String| Err(UrdfProblem::Limit { joint: j.name.clone(), reason });
-    // urdf-rs fills an absent <limit> with zeros; a real one has a velocity or effort.
-    if l.lower == 0.0 && l.upper == 0.0 && l.effort == 0.0 && l.velocity == 0.0 {
+fn checked_limits(joint: &str, limit: Option<&RawLimit>) -> Result<(f64, f64), UrdfProblem> {
+    let bad = |reason: String| Err(UrdfProblem::Limit { joint: joint.to_string(), reason });
+    let Some(l) = limit else {
         return bad("has no <limit> (the URDF specification requires one for revolute and prismatic joints)".into());
-    }
+    };
     let (lower, upper) = (l.lower, l.upper);
     if !(lower.is_finite() && upper.is_finite()) {
         return bad(format!("has limits [{lower:?}, {upper:?}], which are not finite"));
@@ -148,7 +164,8 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
     if text.contains("<xacro:") {
         return Err(UrdfProblem::Xacro);
     }
-    let robot = urdf_rs::read_from_string(text).map_err(|e| UrdfProblem::Parse(first_line(&e.to_string())))?;
+    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfProblem::Parse(e.to_string()))?;
+    let robot = read::robot(&doc)?;
     if robot.links.is_empty() {
         return Err(UrdfProblem::Empty);
     }
@@ -159,17 +176,15 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             return Err(UrdfProblem::Structure(format!("link `{}` is defined twice", l.name)));
         }
         let mut collisions = Vec::new();
-        for c in &l.collision {
-            let kind = match &c.geometry {
-                urdf_rs::Geometry::Box { size } => GeomKind::Box(Vector3::from(size.0)),
-                urdf_rs::Geometry::Cylinder { radius, length } => {
-                    GeomKind::Cylinder { radius: *radius, length: *length }
-                }
-                urdf_rs::Geometry::Capsule { radius, length } => GeomKind::Capsule { radius: *radius, length: *length },
-                urdf_rs::Geometry::Sphere { radius } => GeomKind::Sphere(*radius),
-                urdf_rs::Geometry::Mesh { filename, scale } => GeomKind::Mesh {
+        for c in &l.collisions {
+            let kind = match &c.shape {
+                RawShape::Box(size) => GeomKind::Box(Vector3::from(*size)),
+                RawShape::Cylinder { radius, length } => GeomKind::Cylinder { radius: *radius, length: *length },
+                RawShape::Capsule { radius, length } => GeomKind::Capsule { radius: *radius, length: *length },
+                RawShape::Sphere(radius) => GeomKind::Sphere(*radius),
+                RawShape::Mesh { filename, scale } => GeomKind::Mesh {
                     uri: filename.clone(),
-                    scale: scale.map_or(Vector3::new(1.0, 1.0, 1.0), |s| Vector3::from(s.0)),
+                    scale: scale.map_or(Vector3::new(1.0, 1.0, 1.0), Vector3::from),
                 },
             };
             let ok = match &kind {
@@ -203,9 +218,9 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
                 UrdfProblem::Structure(format!("joint `{}` names link `{n}`, which is not defined", j.name))
             })
         };
-        let (parent, child) = (find(&j.parent.link)?, find(&j.child.link)?);
+        let (parent, child) = (find(&j.parent)?, find(&j.child)?);
         let axis = || {
-            let a = Vector3::from(j.axis.xyz.0);
+            let a = Vector3::from(j.axis);
             Unit::try_new(a, 1e-12).filter(|_| a.iter().all(|v| v.abs() <= MAX_LENGTH)).ok_or_else(|| {
                 UrdfProblem::Structure(format!(
                     "joint `{}` has a zero, non-finite or absurd axis {:?}",
@@ -213,31 +228,29 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
                 ))
             })
         };
-        let (motion, continuous) = match j.joint_type {
-            urdf_rs::JointType::Fixed => (Motion::Fixed, false),
-            urdf_rs::JointType::Revolute => (Motion::Rotate(axis()?), false),
-            urdf_rs::JointType::Continuous => (Motion::Rotate(axis()?), true),
-            urdf_rs::JointType::Prismatic => (Motion::Slide(axis()?), false),
-            ref other => {
-                return Err(UrdfProblem::Structure(format!(
-                    "joint `{}` has type `{}`, which is not supported (use revolute, continuous, prismatic or fixed)",
-                    j.name,
-                    format!("{other:?}").to_lowercase()
-                )))
-            }
+        let (motion, continuous) = match j.kind {
+            JointKind::Fixed => (Motion::Fixed, false),
+            JointKind::Revolute => (Motion::Rotate(axis()?), false),
+            JointKind::Continuous => (Motion::Rotate(axis()?), true),
+            JointKind::Prismatic => (Motion::Slide(axis()?), false),
+            JointKind::Unsupported(other) => return Err(UrdfProblem::Structure(format!(
+                "joint `{}` has type `{other}`, which is not supported (use revolute, continuous, prismatic or fixed)",
+                j.name
+            ))),
         };
         let (lower, upper) = match motion {
             Motion::Rotate(_) if continuous => (-2.0 * std::f64::consts::PI, 2.0 * std::f64::consts::PI),
-            Motion::Rotate(_) | Motion::Slide(_) => checked_limits(j)?,
+            Motion::Rotate(_) | Motion::Slide(_) => checked_limits(&j.name, j.limit.as_ref())?,
             // A fixed joint's limits are never read.
             Motion::Fixed => (0.0, 0.0),
         };
         if links[child].parent_joint.is_some() {
-            return Err(UrdfProblem::Structure(format!("link `{}` is the child of two joints", j.child.link)));
+            return Err(UrdfProblem::Structure(format!("link `{}` is the child of two joints", j.child)));
         }
         links[child].parent_joint = Some(joints.len());
         links[parent].child_joints.push(joints.len());
-        let mimic = j.mimic.as_ref().map(|m| (m.joint.clone(), m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0)));
+        let mimic =
+            j.mimic.as_ref().map(|(leader, mult, offset)| (leader.clone(), mult.unwrap_or(1.0), offset.unwrap_or(0.0)));
         if let Some((_, mult, offset)) = &mimic {
             if !(mult.abs() <= MAX_TRAVEL && offset.abs() <= MAX_TRAVEL) {
                 return Err(UrdfProblem::Structure(format!(
@@ -255,10 +268,9 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             child,
             lower,
             upper,
-            velocity: if j.limit.velocity.is_finite() && j.limit.velocity > 0.0 {
-                j.limit.velocity
-            } else {
-                DEFAULT_VELOCITY
+            velocity: match j.limit {
+                Some(RawLimit { velocity, .. }) if velocity.is_finite() && velocity > 0.0 => velocity,
+                _ => DEFAULT_VELOCITY,
             },
             acceleration: None,
             mimic,
@@ -286,8 +298,8 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             }
         }
     }
-    let filter_pairs = drake_filter_pairs(text, &names_of(&links))?;
-    for (name, a) in drake_accelerations(text)? {
+    let filter_pairs = drake_filter_pairs(&doc, &names_of(&links))?;
+    for (name, a) in drake_accelerations(&doc)? {
         if let Some(j) = joints.iter_mut().find(|j| j.name == name) {
             j.acceleration = Some(a);
         }
@@ -312,12 +324,8 @@ fn names_of(links: &[ModelLink]) -> Vec<&str> {
 
 /// Drake's collision filter groups: each `<drake:collision_filter_group>` lists member
 /// links and the groups (itself included, when listed) whose members it never collides
-/// with. urdf-rs drops these elements, so they are read from the text directly.
-fn drake_filter_pairs(text: &str, links: &[&str]) -> Result<Vec<(String, String)>, UrdfProblem> {
-    if !text.contains("collision_filter_group") {
-        return Ok(Vec::new());
-    }
-    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfProblem::Parse(e.to_string()))?;
+/// with.
+fn drake_filter_pairs(doc: &roxmltree::Document, links: &[&str]) -> Result<Vec<(String, String)>, UrdfProblem> {
     let named = |n: &roxmltree::Node, tag: &str| n.is_element() && n.tag_name().name() == tag;
     let mut groups: Vec<(String, Vec<String>, Vec<String>)> = Vec::new();
     for g in doc.descendants().filter(|n| named(n, "collision_filter_group")) {
@@ -360,13 +368,9 @@ fn drake_filter_pairs(text: &str, links: &[&str]) -> Result<Vec<(String, String)
 }
 
 /// Drake's per-joint acceleration limits, `<limit drake:acceleration="8.57" .../>`, by
-/// joint name (urdf-rs drops the attribute). A value that is not a positive finite
-/// number is an error: a limit the file states must be one the timing can keep.
-fn drake_accelerations(text: &str) -> Result<Vec<(String, f64)>, UrdfProblem> {
-    if !text.contains("drake:acceleration") {
-        return Ok(Vec::new());
-    }
-    let doc = roxmltree::Document::parse(text).map_err(|e| UrdfProblem::Parse(e.to_string()))?;
+/// joint name. A value that is not a positive finite number is an error: a limit the
+/// file states must be one the timing can keep.
+fn drake_accelerations(doc: &roxmltree::Document) -> Result<Vec<(String, f64)>, UrdfProblem> {
     let mut out = Vec::new();
     for joint in doc.descendants().filter(|n| n.is_element() && n.tag_name().name() == "joint") {
         let name = joint.attribute("name").unwrap_or_default();
@@ -386,10 +390,6 @@ fn drake_accelerations(text: &str) -> Result<Vec<(String, f64)>, UrdfProblem> {
         }
     }
     Ok(out)
-}
-
-fn first_line(s: &str) -> String {
-    s.lines().next().unwrap_or("").trim().to_string()
 }
 
 #[cfg(test)]
@@ -434,9 +434,7 @@ mod filter_tests {
     fn drakes_acceleration_is_read_and_a_bad_one_refused() {
         let m = parse(&SLIDER.replace("ACC", "2.5")).unwrap();
         assert_eq!((m.joints[0].velocity, m.joints[0].acceleration), (0.2, Some(2.5)));
-        // urdf-rs already refuses a value that is not a number at all.
-        assert!(parse(&SLIDER.replace("ACC", "fast")).is_err());
-        for bad in ["-1", "0", "inf"] {
+        for bad in ["-1", "0", "inf", "fast"] {
             let r = parse(&SLIDER.replace("ACC", bad));
             assert!(
                 matches!(&r, Err(UrdfProblem::Structure(e)) if e.contains("`drake:acceleration=\"")),
