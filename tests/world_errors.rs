@@ -76,6 +76,20 @@ fn broken_urdf_xml() {
 }
 
 #[test]
+fn a_urdf_element_that_cannot_be_read_names_its_line() {
+    // Not XML (the reader's own position), and XML whose sphere has no radius.
+    let broken = r#"<robot name="r"><link name="a"></robot>"#;
+    let no_radius = one_link("<collision>\n<geometry><sphere/></geometry></collision>");
+    for (text, line) in [(broken, "1:"), (no_radius.as_str(), "line 2: <sphere> has no `radius`")] {
+        let loader = MemLoader::new().with("/m/arm.urdf", text);
+        let errs = errors(&arm_scenario("/m/arm.urdf", vec![]), &loader);
+        assert_eq!(code(&errs[0]), "declutter::world::urdf_parse", "{errs:?}");
+        assert!(errs[0].to_string().contains(line), "{}", errs[0]);
+        insta::assert_snapshot!(rendered(&errs));
+    }
+}
+
+#[test]
 fn xacro_is_refused() {
     let xacro = r#"<?xml version="1.0"?>
 <robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="arm">

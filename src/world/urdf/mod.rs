@@ -233,10 +233,12 @@ pub(crate) fn parse(text: &str) -> Result<Model, UrdfProblem> {
             JointKind::Revolute => (Motion::Rotate(axis()?), false),
             JointKind::Continuous => (Motion::Rotate(axis()?), true),
             JointKind::Prismatic => (Motion::Slide(axis()?), false),
-            JointKind::Unsupported(other) => return Err(UrdfProblem::Structure(format!(
+            JointKind::Unsupported(other) => {
+                return Err(UrdfProblem::Structure(format!(
                 "joint `{}` has type `{other}`, which is not supported (use revolute, continuous, prismatic or fixed)",
                 j.name
-            ))),
+            )))
+            }
         };
         let (lower, upper) = match motion {
             Motion::Rotate(_) if continuous => (-2.0 * std::f64::consts::PI, 2.0 * std::f64::consts::PI),
