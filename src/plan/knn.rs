@@ -47,7 +47,8 @@ impl GrowingIndex {
     /// The point nearest `q` among the first `n` points of the set (`point(i)`, `dim`
     /// values each, `n` never less than at the last call) that `skip` does not leave out,
     /// as an index into it; ties go to the lower index. The first point when every one
-    /// is left out.
+    /// is left out. `seed`: a point likely near `q` (below `n`); the search starts from
+    /// its distance, so that far subtrees are pruned from the first, with the same answer.
     pub(crate) fn nearest<'a>(
         &mut self,
         dim: usize,
@@ -55,6 +56,7 @@ impl GrowingIndex {
         point: impl Fn(usize) -> &'a [f64],
         q: &[f64],
         skip: impl Fn(u32) -> bool,
+        seed: Option<usize>,
     ) -> usize {
         while n - self.held >= RUN {
             let (mut start, end) = (self.held, self.held + RUN);
@@ -65,7 +67,10 @@ impl GrowingIndex {
             self.trees.push(KdTree::build_run(dim, flat, start as u32));
             self.held = end;
         }
-        let mut best = (f64::INFINITY, u32::MAX);
+        let mut best = match seed.filter(|&i| i < n && !skip(i as u32)) {
+            Some(i) => (dist2(point(i), q), i as u32),
+            None => (f64::INFINITY, u32::MAX),
+        };
         for t in &self.trees {
             t.nearest_one(q, &skip, &mut best);
         }
@@ -74,8 +79,9 @@ impl GrowingIndex {
             if skip(i as u32) {
                 continue;
             }
+            // (A tie with the seed, which may be newer, goes to the older point.)
             let d = dist2(point(i), q);
-            if d < best.0 {
+            if d < best.0 || (d == best.0 && i < best.1) {
                 best = (d, i);
             }
         }
@@ -439,7 +445,8 @@ mod tests {
     /// of a linear scan, ties to the lower index. (A merge that dropped a run, a wrong
     /// offset or a tie kept by the wrong tree would each fail it.) Every third query leaves
     /// out the points whose index is 5 mod 7 (a search tree's dead nodes), in the trees and
-    /// the scanned tail alike; every fourth comes from outside the points' box.
+    /// the scanned tail alike; every fourth comes from outside the points' box. Three in
+    /// four are seeded (a newer point than a tie, a point left out, an older one).
     #[test]
     fn growing_index_matches_linear_scan_as_points_arrive() {
         // An arm's six and seven joints take the fixed-size search; three the generic one.
@@ -457,7 +464,15 @@ mod tests {
                         _ => (0..dim).map(|_| rnd(3) as f64).collect(),
                     };
                     let skip = |i: u32| k == 2 && i % 7 == 5;
-                    let got = index.nearest(dim, n, |i| &pts[i], &q, skip);
+                    // Seeds: the newest point (a tie with it goes to an older one), one
+                    // left out (index 5), one in the trees; none.
+                    let seed = match k {
+                        1 => Some(n - 1),
+                        2 => Some(5.min(n - 1)),
+                        3 => Some(n / 2),
+                        _ => None,
+                    };
+                    let got = index.nearest(dim, n, |i| &pts[i], &q, skip, seed);
                     let want = (0..n)
                         .filter(|&i| !skip(i as u32))
                         .min_by(|&a, &b| dist2(&pts[a], &q).total_cmp(&dist2(&pts[b], &q)).then(a.cmp(&b)));

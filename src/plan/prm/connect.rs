@@ -90,10 +90,11 @@ impl Tree {
     fn q(&self, i: usize) -> &[f64] {
         &self.qs[i * self.dof..(i + 1) * self.dof]
     }
-    /// The live node nearest `q`; ties go to the older node.
-    fn nearest(&mut self, q: &[f64]) -> usize {
+    /// The live node nearest `q`; ties go to the older node. `seed`: a node likely near
+    /// `q` (see [`GrowingIndex::nearest`]).
+    fn nearest(&mut self, q: &[f64], seed: Option<usize>) -> usize {
         let (dim, qs, dead) = (self.dof, &self.qs, &self.dead);
-        self.index.nearest(dim, self.parent.len(), |i| &qs[i * dim..(i + 1) * dim], q, |i| dead[i as usize])
+        self.index.nearest(dim, self.parent.len(), |i| &qs[i * dim..(i + 1) * dim], q, |i| dead[i as usize], seed)
     }
     fn add(&mut self, q: &[f64], parent: usize) -> usize {
         self.qs.extend_from_slice(q);
@@ -239,26 +240,31 @@ impl FreeConnect {
             }
             // As the goal trees' (see `goals::local_target`): half the aims near a node of
             // the growing tree, so that a tree in a pocket spreads through it.
-            let aim: Vec<f64> = if self.rng.random::<f64>() < TREE_LOCAL {
+            // (A local aim's node seeds the search for the nearest: it is usually near.)
+            let (aim, seed): (Vec<f64>, _) = if self.rng.random::<f64>() < TREE_LOCAL {
                 let n = self.a.len();
                 let i = ((self.rng.random::<f64>() * n as f64) as usize).min(n - 1);
                 let q = self.a.q(i).to_vec();
-                q.iter()
+                let aim = q
+                    .iter()
                     .zip(&lim)
                     .map(|(v, (lo, hi))| (v + TREE_SIGMA * normal(&mut self.rng)).clamp(*lo, *hi))
-                    .collect()
+                    .collect();
+                (aim, Some(i))
             } else {
-                lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect()
+                (lim.iter().map(|(lo, hi)| lo + self.rng.random::<f64>() * (hi - lo)).collect(), None)
             };
-            if let Grew::Reached(i) | Grew::Advanced(i) = p.free_step(&mut self.a, None, &aim, &self.mode, checks) {
+            if let Grew::Reached(i) | Grew::Advanced(i) =
+                p.free_step(&mut self.a, Start::Nearest(seed), &aim, &self.mode, checks)
+            {
                 let target = self.a.q(i).to_vec();
                 // Connect: the other tree steps towards the new node until it reaches it or
                 // is stopped. Each step's node is nearer the target than any other (a step
                 // nearer than the nearest), so the next step starts there without a search.
-                let mut from = None;
+                let mut from = Start::Nearest(None);
                 loop {
                     match p.free_step(&mut self.b, from, &target, &self.mode, checks) {
-                        Grew::Advanced(j) => from = Some(j),
+                        Grew::Advanced(j) => from = Start::At(j),
                         Grew::Trapped => break,
                         Grew::Reached(j) => {
                             // Both ends of the path certified, or the trees go on growing
@@ -290,11 +296,23 @@ impl FreeConnect {
     }
 }
 
+/// Where a tree's step starts.
+#[derive(Clone, Copy)]
+enum Start {
+    /// At this node.
+    At(usize),
+    /// At the live node nearest the aim; the search seeded with a node likely near it.
+    Nearest(Option<usize>),
+}
+
 impl<S: Space> RobotPlanner<S> {
-    /// One step of `t` from `from` (by default its live node nearest `aim`) towards `aim`,
-    /// kept when the coarse samples of the motion touch nothing (see [`Tree`]).
-    fn free_step(&self, t: &mut Tree, from: Option<usize>, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
-        let near = from.unwrap_or_else(|| t.nearest(aim));
+    /// One step of `t` from `from` towards `aim`, kept when the coarse samples of the
+    /// motion touch nothing (see [`Tree`]).
+    fn free_step(&self, t: &mut Tree, from: Start, aim: &[f64], mode: &Mode, checks: &mut u64) -> Grew {
+        let near = match from {
+            Start::At(i) => i,
+            Start::Nearest(seed) => t.nearest(aim, seed),
+        };
         let from = t.q(near).to_vec();
         let d = dist2(&from, aim).sqrt();
         let reached = d <= TREE_STEP;

@@ -336,7 +336,7 @@ fn nearest_in_tree(s: &mut State, root: u32, q: &[f64]) -> u32 {
     let n = 1 + s.goals[root as usize].tree.len();
     let dof = s.goals[root as usize].q.len();
     let mut index = std::mem::take(&mut s.goals[root as usize].index);
-    let i = index.nearest(dof, n, |i| &s.goals[node(s, i) as usize].q, q, |_| false);
+    let i = index.nearest(dof, n, |i| &s.goals[node(s, i) as usize].q, q, |_| false, None);
     s.goals[root as usize].index = index;
     node(s, i)
 }
