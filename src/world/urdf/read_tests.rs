@@ -312,3 +312,47 @@ fn a_quaternion_is_taken_whole_and_normalised() {
         matches!(parse(&arm("0 0 0 0")), Err(UrdfProblem::Structure(m)) if m.contains("quat_xyzw [0.0, 0.0, 0.0, 0.0]"))
     );
 }
+
+/// Spelled another way, a URDF reads the same: a comment or white space after any tag,
+/// attributes on lines of their own, an empty element written open and closed.
+fn respelled(text: &str, picks: &[u8]) -> String {
+    let mut pick = picks.iter().cycle().copied();
+    let empty = regex::Regex::new(r"<([A-Za-z_:]+)([^<>]*?)\s*/>").unwrap();
+    let text = empty.replace_all(text, |c: &regex::Captures| match pick.next().unwrap_or(0) % 2 {
+        0 => format!("<{}{}></{}>", &c[1], &c[2], &c[1]),
+        _ => c[0].to_string(),
+    });
+    let mut out = String::with_capacity(text.len() * 2);
+    let mut in_tag = false;
+    let mut quoted = false;
+    for ch in text.chars() {
+        match ch {
+            '"' if in_tag => quoted = !quoted,
+            ' ' if in_tag && !quoted => {
+                out.push_str(["\n    ", " ", "\t", "  "][usize::from(pick.next().unwrap_or(0) % 4)]);
+                continue;
+            }
+            '<' => in_tag = true,
+            _ => {}
+        }
+        out.push(ch);
+        if ch == '>' {
+            in_tag = false;
+            out.push_str(["", "<!-- a comment -->", "\n", ""][usize::from(pick.next().unwrap_or(0) % 4)]);
+        }
+    }
+    out
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+    #[test]
+    fn a_urdf_spelled_another_way_reads_the_same(picks in proptest::collection::vec(0u8..=255, 1..64)) {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/robots/tx90.urdf");
+        let text = std::fs::read_to_string(path).unwrap();
+        let again = respelled(&text, &picks);
+        proptest::prop_assert_ne!(&again, &text);
+        let (a, b) = (ours(&text).unwrap(), ours(&again).unwrap());
+        proptest::prop_assert!(same(&a, &b), "{}", again);
+    }
+}
