@@ -378,8 +378,14 @@ impl Cell<'_> {
             let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
             parts.fold(first, |b, p| b.merged(p.aabb))
         };
-        // (`list_pairs` sizes the boxes with the units.)
-        let Thing::Unit(r, u) = t else { return around(memory) };
+        // A single shape's box is its own (looked up, not walked to: a pair asks for its
+        // sides' boxes at every bound and measure). (`list_pairs` sizes the boxes with the
+        // units.)
+        let (r, u) = match t {
+            Thing::Static(e) => return self.statics[e].aabb,
+            Thing::Held(r, i) => return s.held[r][i].aabb,
+            Thing::Unit(r, u) => (r, u),
+        };
         let (at, aabb) = memory.unit_box[r][u];
         if at == memory.instant {
             return aabb;
