@@ -13,7 +13,7 @@ mod read;
 #[cfg(test)]
 mod read_tests;
 
-use read::{JointKind, RawLimit, RawPose, RawShape, Turn};
+use read::{JointKind, Orientation, RawLimit, RawPose, RawShape};
 
 /// What can be wrong with a URDF text.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,26 +115,27 @@ impl Model {
 /// The pose of an `<origin>`, or why it is unusable (`what` names the element).
 fn pose_of(p: &RawPose, what: &str) -> Result<Isometry3<f64>, UrdfProblem> {
     let [x, y, z] = p.xyz;
-    let (turn, finite): (&[f64], _) = match &p.turn {
-        Turn::Rpy(rpy) => (rpy, true),
+    let (angles, finite): (&[f64], _) = match &p.orientation {
+        Orientation::Rpy(rpy) => (rpy, true),
         // A quaternion is normalised, as urdfdom does; one of length zero has no direction.
-        Turn::Quat(q) => (q, q.iter().any(|v| *v != 0.0)),
+        Orientation::Quat(q) => (q, q.iter().any(|v| *v != 0.0)),
     };
     // NaN or inf would make every shape's AABB NaN, and a NaN box never intersects
     // anything: collision would be off for the link without a word.
-    if !(p.xyz.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && turn.iter().all(|v| v.is_finite()) && finite) {
+    if !(p.xyz.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && angles.iter().all(|v| v.is_finite()) && finite)
+    {
         return Err(UrdfProblem::Structure(format!(
             "{what} has an <origin> that is not finite or beyond {MAX_LENGTH} m (xyz {:?}, {})",
             p.xyz,
-            match &p.turn {
-                Turn::Rpy(rpy) => format!("rpy {rpy:?}"),
-                Turn::Quat(q) => format!("quat_xyzw {q:?}"),
+            match &p.orientation {
+                Orientation::Rpy(rpy) => format!("rpy {rpy:?}"),
+                Orientation::Quat(q) => format!("quat_xyzw {q:?}"),
             }
         )));
     }
-    let rotation = match p.turn {
-        Turn::Rpy([r, pi, ya]) => UnitQuaternion::from_euler_angles(r, pi, ya),
-        Turn::Quat([qx, qy, qz, qw]) => UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz)),
+    let rotation = match p.orientation {
+        Orientation::Rpy([r, pi, ya]) => UnitQuaternion::from_euler_angles(r, pi, ya),
+        Orientation::Quat([qx, qy, qz, qw]) => UnitQuaternion::from_quaternion(Quaternion::new(qw, qx, qy, qz)),
     };
     Ok(Isometry3::from_parts(Translation3::new(x, y, z), rotation))
 }

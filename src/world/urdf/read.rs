@@ -14,7 +14,7 @@ use super::UrdfProblem;
 
 /// `<origin>`'s rotation as the file gives it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Turn {
+pub(crate) enum Orientation {
     Rpy([f64; 3]),
     /// (x, y, z, w) as written, not yet normalised.
     Quat([f64; 4]),
@@ -23,12 +23,12 @@ pub(crate) enum Turn {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct RawPose {
     pub xyz: [f64; 3],
-    pub turn: Turn,
+    pub orientation: Orientation,
 }
 
 impl Default for RawPose {
     fn default() -> Self {
-        RawPose { xyz: [0.0; 3], turn: Turn::Rpy([0.0; 3]) }
+        RawPose { xyz: [0.0; 3], orientation: Orientation::Rpy([0.0; 3]) }
     }
 }
 
@@ -252,12 +252,12 @@ impl<'input> Reader<'_, 'input> {
             Some(q) if self.version >= V1_1 => Some(self.numbers::<4>(o, "quat_xyzw", q)?),
             _ => None,
         };
-        let turn = match (rpy, quat) {
+        let orientation = match (rpy, quat) {
             (Some(_), Some(_)) => return Err(self.at(o, "<origin> gives both rpy and quat_xyzw".into())),
-            (_, Some(q)) => Turn::Quat(q),
-            (rpy, None) => Turn::Rpy(rpy.unwrap_or([0.0; 3])),
+            (_, Some(q)) => Orientation::Quat(q),
+            (rpy, None) => Orientation::Rpy(rpy.unwrap_or([0.0; 3])),
         };
-        Ok(RawPose { xyz, turn })
+        Ok(RawPose { xyz, orientation })
     }
 
     fn required<'n>(&self, n: Node<'n, 'input>, attr: &str) -> Result<&'n str, UrdfProblem> {

@@ -7,14 +7,16 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::UnitQuaternion;
 
-use super::read::{self, JointKind, RawCollision, RawJoint, RawLimit, RawLink, RawPose, RawRobot, RawShape, Turn};
+use super::read::{
+    self, JointKind, Orientation, RawCollision, RawJoint, RawLimit, RawLink, RawPose, RawRobot, RawShape,
+};
 use super::{parse, UrdfProblem};
 
 /// What urdf-rs reads, in the reader's terms. urdf-rs fills an absent `<limit>` with
 /// zeros: the world took all zeros for "no limit", and so does this oracle.
 fn oracle(text: &str) -> Result<RawRobot, String> {
     let r = urdf_rs::read_from_string(text).map_err(|e| e.to_string())?;
-    let pose = |p: &urdf_rs::Pose| RawPose { xyz: p.xyz.0, turn: Turn::Rpy(p.rpy.0) };
+    let pose = |p: &urdf_rs::Pose| RawPose { xyz: p.xyz.0, orientation: Orientation::Rpy(p.rpy.0) };
     let links = r
         .links
         .iter()
@@ -84,12 +86,12 @@ fn ours(text: &str) -> Result<RawRobot, UrdfProblem> {
 /// urdf-rs turns a quaternion into roll, pitch and yaw; the reader keeps it. Poses are
 /// compared as rotations, everything else exactly (a NaN limit equal to a NaN).
 fn same(a: &RawRobot, b: &RawRobot) -> bool {
-    let rot = |p: &RawPose| match p.turn {
-        Turn::Rpy([r, p, y]) => UnitQuaternion::from_euler_angles(r, p, y),
-        Turn::Quat([x, y, z, w]) => UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z)),
+    let rot = |p: &RawPose| match p.orientation {
+        Orientation::Rpy([r, p, y]) => UnitQuaternion::from_euler_angles(r, p, y),
+        Orientation::Quat([x, y, z, w]) => UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z)),
     };
     let pose = |p: &RawPose, q: &RawPose| p.xyz == q.xyz && rot(p).angle_to(&rot(q)) < 1e-9;
-    let plain = |p: &RawPose| RawPose { turn: Turn::Rpy([0.0; 3]), ..*p };
+    let plain = |p: &RawPose| RawPose { orientation: Orientation::Rpy([0.0; 3]), ..*p };
     let strip = |r: &RawRobot| {
         let mut r = r.clone();
         r.links.iter_mut().flat_map(|l| &mut l.collisions).for_each(|c| c.origin = plain(&c.origin));
