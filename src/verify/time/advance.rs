@@ -141,12 +141,22 @@ pub(super) struct Memory {
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry(u128);
 
-/// `f64::total_cmp`'s order as an unsigned integer's: a negative number's magnitude bits
-/// flipped (what `total_cmp` compares, as a signed integer), then the sign bit flipped.
+const SIGN: u64 = 1 << 63;
+
+/// What `f64::total_cmp` flips of a number's bits before comparing them as a signed
+/// integer: a negative number's magnitude bits.
+fn magnitude_flip(bits: u64) -> u64 {
+    if bits & SIGN != 0 {
+        !SIGN
+    } else {
+        0
+    }
+}
+
+/// `f64::total_cmp`'s order as an unsigned integer's: the magnitude flipped as
+/// `total_cmp` does, then the sign bit flipped (a signed order made unsigned).
 fn ordered_bits(bits: u64) -> u64 {
-    const SIGN: u64 = 1 << 63;
-    let flip = if bits & SIGN != 0 { !SIGN } else { 0 };
-    bits ^ flip ^ SIGN
+    bits ^ magnitude_flip(bits) ^ SIGN
 }
 
 impl Entry {
@@ -165,12 +175,11 @@ impl Entry {
     }
 }
 
-/// The inverse of [`ordered_bits`].
+/// The inverse of [`ordered_bits`] (the flip depends on the sign bit alone, which it
+/// leaves as it is).
 fn unordered_bits(key: u64) -> u64 {
-    const SIGN: u64 = 1 << 63;
     let bits = key ^ SIGN;
-    let flip = if bits & SIGN != 0 { !SIGN } else { 0 };
-    bits ^ flip
+    bits ^ magnitude_flip(bits)
 }
 
 /// How far an expiry computed as `slack + odometer` may stray from the bound's own

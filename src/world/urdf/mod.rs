@@ -115,14 +115,16 @@ impl Model {
 /// The pose of an `<origin>`, or why it is unusable (`what` names the element).
 fn pose_of(p: &RawPose, what: &str) -> Result<Isometry3<f64>, UrdfProblem> {
     let [x, y, z] = p.xyz;
-    let (angles, finite): (&[f64], _) = match &p.orientation {
+    let (angles, directed): (&[f64], _) = match &p.orientation {
         Orientation::Rpy(rpy) => (rpy, true),
         // A quaternion is normalised, as urdfdom does; one of length zero has no direction.
         Orientation::Quat(q) => (q, q.iter().any(|v| *v != 0.0)),
     };
     // NaN or inf would make every shape's AABB NaN, and a NaN box never intersects
     // anything: collision would be off for the link without a word.
-    if !(p.xyz.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH) && angles.iter().all(|v| v.is_finite()) && finite)
+    if !(p.xyz.iter().all(|v| v.is_finite() && v.abs() <= MAX_LENGTH)
+        && angles.iter().all(|v| v.is_finite())
+        && directed)
     {
         return Err(UrdfProblem::Structure(format!(
             "{what} has an <origin> that is not finite or beyond {MAX_LENGTH} m (xyz {:?}, {})",
