@@ -32,7 +32,7 @@ pub struct WorldOptions {
     /// Random configurations sampled per robot to find link pairs that always or
     /// never collide (MoveIt setup assistant style); 0 checks every non-adjacent pair.
     pub self_collision_samples: usize,
-    /// The labelled check's shortcuts: self-collision pairs that turn on one or two joints
+    /// The labelled check's shortcuts: self-collision pairs that turn on one to three joints
     /// decided by a grid of their distances first, and a body's shapes placed only when its
     /// box is near something. The same verdicts; off only to compare against the plain check.
     pub fast_check: bool,

@@ -1,14 +1,17 @@
-//! A fast first answer for the self-collision pairs that turn on one or two joints: a
-//! wrist's forearm and hand (joints 5 and 6), an elbow's two links (joints 3 and 4). On
-//! the paper's examples those few pairs are nearly every self-pair test that reaches the
-//! exact one: their boxes overlap in almost every configuration, yet they are rarely
-//! closer than a centimetre.
+//! A fast first answer for the self-collision pairs that turn on one to three joints: a
+//! wrist's forearm and hand (joints 5 and 6, or 4 to 6), an elbow's two links (joints 3
+//! and 4), a base and an upper arm (1 and 2). On the paper's examples those few pairs are
+//! nearly every self-pair test that reaches the exact one: their boxes overlap in almost
+//! every configuration, yet they are rarely closer than a centimetre.
 //!
 //! Such a pair's distance depends on those joints only, so a grid over them can hold it:
 //! each cell remembers a lower bound `d(c)` on the distance at its centre `c` (within 10 µm
 //! of it, from GJK's dual bound). A joint turned by `δ` moves the
 //! body beyond it by at most `ρ·|δ|`, `ρ` the body's reach from the joint's axis (a sum of
-//! the chain's fixed lengths, so valid whatever the other joints do). So at `q` the pair
+//! the chain's fixed lengths, so valid whatever the other joints do); the same pair with
+//! the other body turned back by `δ` instead is the same pair rigidly moved, at the same
+//! distance, so `ρ` is the nearer body's reach (the UR5's pan turns its upper arm's far
+//! end half a metre from the axis, its base 14 cm at most). So at `q` the pair
 //! is at least `d(c) − Σ ρ_i |q_i − c_i|` apart: when that is positive the exact test
 //! would say "free", and is skipped. Anything nearer goes to the exact test, so verdicts
 //! never change (`tests/fast_check.rs` compares both on 100 000 configurations per robot).
@@ -34,6 +37,9 @@ use super::OPEN_POSTURE as OPEN;
 
 /// Cells per pair at most (8 bytes each), allocated when the pair first needs one.
 const MAX_CELLS: usize = 4096;
+
+/// Joints a grid spans at most.
+const MAX_JOINTS: usize = 3;
 
 /// No finer than this (metres): the most a cell's offset can add to the bound per joint.
 const MIN_HALF_WIDTH: f64 = 0.001;
@@ -67,31 +73,22 @@ pub(crate) struct PairGrid {
 }
 
 impl PairGrid {
-    /// The grid of body pair `(a, b)`, when their relative pose turns on one or two
+    /// The grid of body pair `(a, b)`, when their relative pose turns on one to three
     /// revolute joints with finite limits and every shape is convex.
     pub fn new(m: &RobotModel, a: usize, b: usize) -> Option<PairGrid> {
         let chain = &m.chain;
-        let (la, lb) = (m.bodies[a].link, m.bodies[b].link);
+        // Turning a joint moves the pair's two sides about its axis relative to each
+        // other; turning the other side back instead is the same pair, rigidly moved, at
+        // the same distance: the nearer side's reach bounds the change.
         let mut reach: Vec<(usize, f64)> = Vec::new();
-        for (side, body) in [(links_up_to_common(chain, la, lb), a), (links_up_to_common(chain, lb, la), b)] {
-            // `side` runs from the body's link up towards the common ancestor.
-            for (k, &l) in side.iter().enumerate() {
-                let link = &chain.links[l];
-                let (index, mult, axis) = match (link.source, link.motion) {
-                    (Source::Fixed | Source::Frozen(_), _) => continue,
-                    (Source::Active { index, mult, .. }, Motion::Rotate(axis)) => (index, mult, axis),
-                    // A sliding joint changes the chain's lengths: no grid.
-                    _ => return None,
-                };
-                let below: Vec<usize> = side[..k].iter().rev().copied().collect();
-                let rho = reach_from_axis(m, chain, &axis, &below, body)?;
-                match reach.iter_mut().find(|(i, _)| *i == index) {
-                    Some((_, r)) => *r += mult.abs() * rho,
-                    None => reach.push((index, mult.abs() * rho)),
-                }
+        for t in pair_joints(m, a, b)? {
+            let rho = t.mult.abs() * t.own.min(t.theirs);
+            match reach.iter_mut().find(|(i, _)| *i == t.index) {
+                Some((_, r)) => *r += rho,
+                None => reach.push((t.index, rho)),
             }
         }
-        if reach.is_empty() || reach.len() > 2 {
+        if reach.is_empty() || reach.len() > MAX_JOINTS {
             return None;
         }
         let shapes = || m.bodies[a].shapes.clone().chain(m.bodies[b].shapes.clone());
@@ -136,7 +133,7 @@ impl PairGrid {
     pub fn apart(&self, q: &[f64], measure: impl FnOnce(&[(usize, f64)], f64) -> Option<f64>) -> bool {
         let mut cell = 0;
         let mut bound = 0.0;
-        let mut centre = [(0, 0.0); 2];
+        let mut centre = [(0, 0.0); MAX_JOINTS];
         for (k, d) in self.dims.iter().enumerate() {
             let v = q[d.index];
             // Clamped: a value a rounding outside the limits still uses the edge cell.
@@ -164,6 +161,48 @@ impl PairGrid {
     pub fn reaches(&self) -> Vec<(usize, f64)> {
         self.dims.iter().map(|d| (d.index, d.reach)).collect()
     }
+}
+
+/// A joint that turns one body of a pair relative to the other, and how far from its
+/// axis each body can be (metres, whatever the joints do). The link and bodies are read
+/// by the tests, which measure the reaches against forward kinematics.
+#[cfg_attr(not(test), allow(dead_code))]
+pub(crate) struct PairJoint {
+    /// The link the joint turns, and the configuration's value that drives it (times `mult`).
+    pub link: usize,
+    pub index: usize,
+    pub mult: f64,
+    /// The body on the joint's side, its reach from the axis; the other body, and its.
+    pub body: usize,
+    pub own: f64,
+    pub other: usize,
+    pub theirs: f64,
+}
+
+/// The joints between bodies `a` and `b` (every link on the way from either up to their
+/// common ancestor), `None` when one slides or a reach cannot be bounded.
+pub(crate) fn pair_joints(m: &RobotModel, a: usize, b: usize) -> Option<Vec<PairJoint>> {
+    let chain = &m.chain;
+    let (la, lb) = (m.bodies[a].link, m.bodies[b].link);
+    let (side_a, side_b) = (links_up_to_common(chain, la, lb), links_up_to_common(chain, lb, la));
+    let mut joints = Vec::new();
+    for (side, body, (other_side, other)) in [(&side_a, a, (&side_b, b)), (&side_b, b, (&side_a, a))] {
+        // `side` runs from the body's link up towards the common ancestor.
+        for (k, &l) in side.iter().enumerate() {
+            let link = &chain.links[l];
+            let (index, mult, axis) = match (link.source, link.motion) {
+                (Source::Fixed | Source::Frozen(_), _) => continue,
+                (Source::Active { index, mult, .. }, Motion::Rotate(axis)) => (index, mult, axis),
+                // A sliding joint changes the chain's lengths: no grid.
+                _ => return None,
+            };
+            let below: Vec<usize> = side[..k].iter().rev().copied().collect();
+            let own = reach_from_axis(m, chain, &axis, &below, body)?;
+            let theirs = reach_across(m, chain, (&axis, &side[k..]), other_side, other)?;
+            joints.push(PairJoint { link: l, index, mult, body, own, other, theirs });
+        }
+    }
+    Some(joints)
 }
 
 /// Links from `from` up to (not including) the common ancestor of `from` and `other`.
@@ -195,22 +234,58 @@ fn reach_from_axis(m: &RobotModel, chain: &Chain, axis: &Vector3<f64>, below: &[
     let r = match below.split_first() {
         None => spheres.map(|(c, r)| across(c) + r).fold(0.0, f64::max),
         Some((first, rest)) => {
-            // A frozen slide (an open finger) moves its link's origin by a constant.
-            let offset = |l: usize| {
-                let link = &chain.links[l];
-                match (link.source, link.motion) {
-                    (Source::Frozen(v), Motion::Slide(axis)) => {
-                        link.pose_parent_joint.translation.vector
-                            + link.pose_parent_joint.rotation * (axis.into_inner() * v)
-                    }
-                    _ => link.pose_parent_joint.translation.vector,
-                }
-            };
+            let offset = |l: usize| link_offset(chain, l);
             let along: f64 = rest.iter().map(|&l| offset(l).norm()).sum();
             across(offset(*first)) + along + spheres.map(|(c, r)| c.norm() + r).fold(0.0, f64::max)
         }
     };
     r.is_finite().then_some(r)
+}
+
+/// How far from the axis of the joint of `up[0]` (`axis` in that joint's frame) the shapes
+/// of `body` on the pair's other side can be, whatever the joints do. `up`: the links
+/// from the joint's up to (not including) the pair's common ancestor; `other_side`: the
+/// links from `body`'s up to it. Through the ancestor's origin, each link's offset
+/// from its parent counted at full length; when the joint hangs from the ancestor and the
+/// body is the ancestor's own, the axis is fixed in the body's frame and only the part
+/// across it counts.
+fn reach_across(
+    m: &RobotModel,
+    chain: &Chain,
+    (axis, up): (&Vector3<f64>, &[usize]),
+    other_side: &[usize],
+    body: usize,
+) -> Option<f64> {
+    let spheres = m.bodies[body].shapes.clone().map(|si| {
+        let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
+        let c = *m.shape_pose(si, OPEN) * centre;
+        (Vector3::new(c.x, c.y, c.z), radius)
+    });
+    let r = match (up, other_side) {
+        ([joint], []) => {
+            let pose = &chain.links[*joint].pose_parent_joint;
+            let (origin, axis) = (pose.translation.vector, pose.rotation * axis);
+            let across = |v: Vector3<f64>| (v - axis * axis.dot(&v)).norm();
+            spheres.map(|(c, r)| across(c - origin) + r).fold(0.0, f64::max)
+        }
+        _ => {
+            let path: f64 = up.iter().chain(other_side).map(|&l| link_offset(chain, l).norm()).sum();
+            path + spheres.map(|(c, r)| c.norm() + r).fold(0.0, f64::max)
+        }
+    };
+    r.is_finite().then_some(r)
+}
+
+/// The offset of a link's origin from its parent's (a frozen slide, an open finger, moves
+/// it by a constant).
+fn link_offset(chain: &Chain, l: usize) -> Vector3<f64> {
+    let link = &chain.links[l];
+    match (link.source, link.motion) {
+        (Source::Frozen(v), Motion::Slide(axis)) => {
+            link.pose_parent_joint.translation.vector + link.pose_parent_joint.rotation * (axis.into_inner() * v)
+        }
+        _ => link.pose_parent_joint.translation.vector,
+    }
 }
 
 /// A sphere around a placed shape, in the shape's own frame: a ball's own, else the one
