@@ -149,23 +149,17 @@ impl World {
             world.clear();
             world.extend(links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
             let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
-            let posed = |si: usize| {
-                let s = &m.shapes[si];
-                let pose = place(&world[m.bodies[s.body].link], m.shape_pose(si, posture), s.unturned);
-                let aabb =
-                    if exact { aabb_of(&*s.placed.shape.0, &pose) } else { check::moving_aabb(&s.placed, &pose) };
-                (pose, aabb)
-            };
             // The replay poses the same robot at every instant: when `out` already holds
             // its shapes, only their poses and boxes change (no reference counting).
             if out.len() == m.shapes.len() && out.iter().zip(&m.shapes).all(|(o, s)| same_shape(o, s.body, &s.placed)) {
                 for (si, o) in out.iter_mut().enumerate() {
-                    (o.pose, o.aabb) = posed(si);
+                    pose_shape(m, world, si, posture, exact, &mut o.pose, &mut o.aabb);
                 }
             } else {
                 out.clear();
                 for (si, s) in m.shapes.iter().enumerate() {
-                    let (pose, aabb) = posed(si);
+                    let (mut pose, mut aabb) = (PPose::IDENTITY, Aabb::new_invalid());
+                    pose_shape(m, world, si, posture, exact, &mut pose, &mut aabb);
                     out.push(PosedShape {
                         body: s.body,
                         shape: s.placed.shape.clone(),
@@ -292,6 +286,25 @@ thread_local! {
     /// Link poses for [`World::pose_shapes`] (from the base, and in the world), reused
     /// across calls.
     static LINKS: RefCell<(Vec<Isometry3<f64>>, Vec<PPose>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Shape `si` of `m` placed on its link (`links`: the links' world poses) with the
+/// fingers in `posture`, and its box: exact, or (for the replay) the cheaper bound of
+/// [`check::moving_aabb`]. Written in place: the replay poses every shape at every
+/// instant, and a pose and box returned by value were copied twice.
+#[inline(always)]
+fn pose_shape(
+    m: &RobotModel,
+    links: &[PPose],
+    si: usize,
+    posture: usize,
+    exact: bool,
+    pose: &mut PPose,
+    aabb: &mut Aabb,
+) {
+    let s = &m.shapes[si];
+    *pose = place(&links[m.bodies[s.body].link], m.shape_pose(si, posture), s.unturned);
+    *aabb = if exact { aabb_of(&*s.placed.shape.0, pose) } else { check::moving_aabb(&s.placed, pose) };
 }
 
 /// Whether a posed shape is this body's `placed` (the same shared shapes, not equal ones).
