@@ -1,5 +1,6 @@
 //! The reach that makes a grid sound: moving a pair's joints never changes its distance
-//! by more than Σ ρ_i |δ_i|, and that bound is not vacuous; a box gap never overstates.
+//! by more than Σ ρ_i |δ_i|, and that bound is not vacuous; each body's reach from each
+//! joint holds against forward kinematics; a box gap never overstates.
 
 use parry3d_f64::math::{Pose as PPose, Rotation, Vector as PVec};
 use parry3d_f64::shape::SharedShape;
