@@ -41,7 +41,10 @@ fn shared_arms() -> Vec<(String, World)> {
     ];
     arms.iter()
         .map(|(name, urdf, home)| {
-            let file = std::env::temp_dir().join(format!("declutter-grid-{}-{}.dcl", std::process::id(), name.len()));
+            // Tests run on several threads, each calling this: a file of its own each time.
+            static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+            let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let file = std::env::temp_dir().join(format!("declutter-grid-{}-{k}.dcl", std::process::id()));
             let text = format!(
                 "scenario \"grid\"\nrobot arm {{\n    urdf \"{}\"\n    home [{home}]\n}}\ntarget arm at [{home}]\n",
                 robots.join(urdf).display()
