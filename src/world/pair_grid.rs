@@ -225,18 +225,13 @@ fn links_up_to_common(chain: &Chain, from: usize, other: usize) -> Vec<usize> {
 /// in the joint's frame, so only its part across the axis counts; every later offset and
 /// the body's own reach can point anywhere.
 fn reach_from_axis(m: &RobotModel, chain: &Chain, axis: &Vector3<f64>, below: &[usize], body: usize) -> Option<f64> {
-    let across = |v: Vector3<f64>| (v - axis * axis.dot(&v)).norm();
-    let spheres = m.bodies[body].shapes.clone().map(|si| {
-        let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
-        let c = *m.shape_pose(si, OPEN) * centre;
-        (Vector3::new(c.x, c.y, c.z), radius)
-    });
+    let spheres = body_spheres(m, body);
     let r = match below.split_first() {
-        None => spheres.map(|(c, r)| across(c) + r).fold(0.0, f64::max),
+        None => spheres.map(|(c, r)| across(axis, c) + r).fold(0.0, f64::max),
         Some((first, rest)) => {
             let offset = |l: usize| link_offset(chain, l);
             let along: f64 = rest.iter().map(|&l| offset(l).norm()).sum();
-            across(offset(*first)) + along + spheres.map(|(c, r)| c.norm() + r).fold(0.0, f64::max)
+            across(axis, offset(*first)) + along + spheres.map(|(c, r)| c.norm() + r).fold(0.0, f64::max)
         }
     };
     r.is_finite().then_some(r)
@@ -256,17 +251,12 @@ fn reach_across(
     other_side: &[usize],
     body: usize,
 ) -> Option<f64> {
-    let spheres = m.bodies[body].shapes.clone().map(|si| {
-        let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
-        let c = *m.shape_pose(si, OPEN) * centre;
-        (Vector3::new(c.x, c.y, c.z), radius)
-    });
+    let spheres = body_spheres(m, body);
     let r = match (up, other_side) {
         ([joint], []) => {
             let pose = &chain.links[*joint].pose_parent_joint;
             let (origin, axis) = (pose.translation.vector, pose.rotation * axis);
-            let across = |v: Vector3<f64>| (v - axis * axis.dot(&v)).norm();
-            spheres.map(|(c, r)| across(c - origin) + r).fold(0.0, f64::max)
+            spheres.map(|(c, r)| across(&axis, c - origin) + r).fold(0.0, f64::max)
         }
         _ => {
             let path: f64 = up.iter().chain(other_side).map(|&l| link_offset(chain, l).norm()).sum();
@@ -274,6 +264,21 @@ fn reach_across(
         }
     };
     r.is_finite().then_some(r)
+}
+
+/// A body's shapes' bounding spheres (centre in the body's link frame, radius), the
+/// fingers open.
+fn body_spheres(m: &RobotModel, body: usize) -> impl Iterator<Item = (Vector3<f64>, f64)> + '_ {
+    m.bodies[body].shapes.clone().map(|si| {
+        let (centre, radius) = bounding_sphere(&m.shapes[si].placed);
+        let c = *m.shape_pose(si, OPEN) * centre;
+        (Vector3::new(c.x, c.y, c.z), radius)
+    })
+}
+
+/// The part of `v` across the unit `axis` (its distance from the axis through the origin).
+fn across(axis: &Vector3<f64>, v: Vector3<f64>) -> f64 {
+    (v - axis * axis.dot(&v)).norm()
 }
 
 /// The offset of a link's origin from its parent's (a frozen slide, an open finger, moves
