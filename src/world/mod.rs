@@ -9,6 +9,7 @@
 
 mod analytic;
 mod analytic7;
+mod axis_reach;
 mod ball_pack;
 mod build;
 mod chain;
@@ -30,8 +31,11 @@ mod self_pairs;
 mod shapes;
 mod srdf;
 mod sweep;
+#[cfg(test)]
+mod test_arms;
 mod urdf;
 
+pub use axis_reach::{AxisReach, Farthest, ReachScratch};
 pub use build::{build, load_kinematics, overlaps, target_collides, RobotKinematics, WorldOptions};
 pub use check::CheckCtx;
 pub use drawing::{Drawable, DrawnBody, DrawnShape};

@@ -12,13 +12,15 @@
 //! trajectory points is cut into windows, and in each the step is chosen so that no
 //! point of any robot body, or of an object a robot carries, moves more than
 //! [`SAMPLE_BOUND`] between consecutive samples (from the window's exact peak joint
-//! speeds and [`JointReach`]). At each sample:
+//! speeds, and each joint's reach there: [`AxisReach`] at the window's ends, never more
+//! than [`JointReach`], which holds everywhere). At each sample:
 //! robot–robot, robot–carried object, carried–carried, robot–fixed, robot–object in
 //! place, carried–scene, and self-collision over every link pair but the URDF's
 //! adjacent ones and `allow_contact` (no sampled pruning). Objects are in place until
 //! their grasp event, move with the hand until their release event, and are gone after.
 //!
 //! [`JointReach`]: crate::world::JointReach
+//! [`AxisReach`]: crate::world::AxisReach
 
 mod advance;
 mod events;

@@ -1,0 +1,129 @@
+//! The reach at a configuration against forward kinematics: no point of a shape (or of
+//! a carried object) moves faster than it says, over a whole motion too, and it is
+//! tighter than the reach that holds everywhere.
+
+use nalgebra::{Point3, Vector3};
+use parry3d_f64::math::Vector as PVec;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::{AxisReach, Farthest, ReachScratch};
+use crate::resolve::RobotId;
+use crate::world::test_arms::{example, shared_arms};
+use crate::world::{PosedShape, World};
+
+/// The shipped examples' arms (a TX-90 with hands, a gripper's fingers) and the shared ones.
+fn arms() -> Vec<(String, World)> {
+    ["box_lid", "gripper"].map(|n| (n.to_string(), example(n))).into_iter().chain(shared_arms()).collect()
+}
+
+fn random_q(w: &World, r: RobotId, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    w.robots[r.index()].chain.limits.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect()
+}
+
+/// Per joint value, the bound at `q` alone (no motion).
+fn at(reach: &AxisReach, q: &[f64], everywhere: &[f64], scratch: &mut ReachScratch) -> Vec<f64> {
+    let mut far: Farthest = Vec::new();
+    reach.farthest(q, scratch, &mut far);
+    let mut out = Vec::new();
+    reach.over(&far, &far, &vec![0.0; everywhere.len()], everywhere, &mut out);
+    out
+}
+
+/// Points on every shape (their support points in 26 directions, in the world) and the
+/// flange's pose, at `q`.
+fn points(w: &World, r: RobotId, q: &[f64]) -> (Vec<Vector3<f64>>, nalgebra::Isometry3<f64>) {
+    let mut posed: Vec<PosedShape> = Vec::new();
+    let flange = w.pose_shapes(r, q, None, &mut posed);
+    let mut out = Vec::new();
+    for ps in &posed {
+        let Some(support) = ps.shape.0.as_support_map() else { continue };
+        for d in (0..27).filter(|&i| i != 13) {
+            let dir = PVec::new((d % 3) as f64 - 1.0, ((d / 3) % 3) as f64 - 1.0, (d / 9) as f64 - 1.0);
+            let p = ps.pose * support.local_support_point(dir);
+            out.push(Vector3::new(p.x, p.y, p.z));
+        }
+    }
+    (out, flange)
+}
+
+#[test]
+fn no_point_moves_faster_than_the_reach_at_its_configuration() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (mut cases, mut tighter) = (0, 0);
+    for (name, w) in arms() {
+        for ri in 0..w.robots.len() {
+            let r = RobotId(ri as u32);
+            let held_radius = 0.3;
+            let everywhere = w.joint_reach(r).with_held(held_radius);
+            let reach = w.axis_reach(r, held_radius);
+            let mut scratch = ReachScratch::default();
+            // A carried point, fixed in the flange's frame, as far out as allowed.
+            let held: Vector3<f64> = Vector3::new(0.2, -0.1, 0.2).normalize() * held_radius;
+            for _ in 0..200 {
+                let q = random_q(&w, r, &mut rng);
+                let bound = at(&reach, &q, &everywhere, &mut scratch);
+                tighter += usize::from(bound.iter().zip(&everywhere).any(|(b, e)| *b < 0.8 * e));
+                // Half the cases turn one joint alone: there the bound is the farthest
+                // point's distance from that axis, and a point on a ball's far side nearly
+                // meets it.
+                let one = rng.random_range(0..2 * q.len());
+                let v: Vec<f64> = (0..q.len())
+                    .map(|j| if one < q.len() { f64::from(u8::from(j == one)) } else { rng.random_range(-1.0..1.0) })
+                    .collect();
+                let h = 1e-7;
+                let moved: Vec<f64> = q.iter().zip(&v).map(|(q, v)| q + h * v).collect();
+                let speed: f64 = bound.iter().zip(&v).map(|(b, v)| b * v.abs()).sum();
+                let ((p0, f0), (p1, f1)) = (points(&w, r, &q), points(&w, r, &moved));
+                let mut fastest = p0.iter().zip(&p1).map(|(a, b)| (b - a).norm() / h).fold(0.0, f64::max);
+                fastest = fastest.max(((f1 * Point3::from(held)) - (f0 * Point3::from(held))).norm() / h);
+                assert!(
+                    fastest <= speed * (1.0 + 1e-5) + 1e-9,
+                    "{name}: a point at {fastest} m/s, bound {speed} at {q:?}"
+                );
+                cases += 1;
+            }
+        }
+    }
+    // Tighter than the bound that holds everywhere (by a fifth on some joint) in most cases.
+    assert!(tighter * 2 > cases, "{tighter} of {cases}");
+}
+
+#[test]
+fn the_reach_over_a_motion_holds_at_every_instant_of_it() {
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    let mut gained = 0.0f64;
+    for (name, w) in arms() {
+        for ri in 0..w.robots.len() {
+            let r = RobotId(ri as u32);
+            let everywhere = w.joint_reach(r).with_held(0.1);
+            let reach = w.axis_reach(r, 0.1);
+            let mut scratch = ReachScratch::default();
+            let limits = w.robots[ri].chain.limits.clone();
+            for _ in 0..100 {
+                let a = random_q(&w, r, &mut rng);
+                let b: Vec<f64> = a
+                    .iter()
+                    .zip(&limits)
+                    .map(|(x, (lo, hi))| (x + rng.random_range(-0.5..0.5)).clamp(*lo, *hi))
+                    .collect();
+                let (mut fa, mut fb) = (Vec::new(), Vec::new());
+                reach.farthest(&a, &mut scratch, &mut fa);
+                reach.farthest(&b, &mut scratch, &mut fb);
+                let travel: Vec<f64> =
+                    everywhere.iter().zip(a.iter().zip(&b)).map(|(e, (x, y))| e * (y - x).abs()).collect();
+                let mut over = Vec::new();
+                reach.over(&fa, &fb, &travel, &everywhere, &mut over);
+                for k in 0..=64 {
+                    let s = k as f64 / 64.0;
+                    let q: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + s * (y - x)).collect();
+                    for (j, (now, bound)) in at(&reach, &q, &everywhere, &mut scratch).iter().zip(&over).enumerate() {
+                        assert!(now <= &(bound + 1e-12), "{name}: joint {j} reaches {now} at {s}, bound {bound}");
+                    }
+                }
+                gained += over.iter().zip(&everywhere).map(|(o, e)| e - o).sum::<f64>();
+            }
+        }
+    }
+    assert!(gained > 0.0);
+}
