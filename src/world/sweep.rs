@@ -144,10 +144,11 @@ impl World {
             let (links, world) = &mut *scratch;
             links.clear();
             links.resize(m.chain.links.len(), Isometry3::identity());
-            m.chain.fk_into(q, links);
-            // Each link's world pose once, not once per shape on it (the same values).
+            // Each link's world pose once, not once per shape on it, from the base's pose in
+            // the world (no second product per link, as the check poses them).
+            m.chain.fk_from(&m.pose_world_base, q, links);
             world.clear();
-            world.extend(links.iter().map(|l| to_ppose(&(m.pose_world_base * l))));
+            world.extend(links.iter().map(to_ppose));
             let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
             // The replay poses the same robot at every instant: when `out` already holds
             // its shapes, only their poses and boxes change (no reference counting).
@@ -169,7 +170,7 @@ impl World {
                     });
                 }
             }
-            m.pose_world_base * links[m.chain.flange]
+            links[m.chain.flange]
         })
     }
 
