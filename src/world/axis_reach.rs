@@ -2,10 +2,11 @@
 //! point a joint turns from its own axis *there*, not in the worst configuration.
 //!
 //! [`super::JointReach`] holds in every configuration: a joint's reach is the length of
-//! the chain below it, stretched out. An arm seldom is: the Panda's first joint turns
-//! its hand at 0.4–0.6 m from the axis, not 1.13 m. The replay steps its instants by
+//! the chain below it, stretched out. An arm seldom is: along a path through a window
+//! the Panda's first joint turns its farthest point 0.36–0.58 m from the axis, not
+//! 1.13 m. The replay steps its instants by
 //! how far a point can move, so a bound taken at the configuration lets it take about
-//! half as many where a path runs close to something.
+//! 0.6 times as many where a path runs close to something.
 //!
 //! Over a stretch of motion the bound must hold at every instant, not at its ends: a
 //! point's distance from joint `j`'s axis changes only by the joints below `j` (the axis
