@@ -1,6 +1,8 @@
 //! The reach at a configuration against forward kinematics: no point of a shape (or of
 //! a carried object) moves faster than it says, over a whole motion too, and it is
-//! tighter than the reach that holds everywhere.
+//! tighter than the reach that holds everywhere. On the shipped TX-90s, the UR5, both
+//! Pandas, and an arm on a rail (a sliding joint, a joint mimicking another: leaving
+//! out the slide or the mimic's multiplier fails the first test).
 
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::Vector as PVec;
@@ -9,12 +11,53 @@ use rand_chacha::ChaCha8Rng;
 
 use super::{AxisReach, Farthest, ReachScratch};
 use crate::resolve::RobotId;
-use crate::world::test_arms::{example, shared_arms};
+use crate::world::test_arms::{example, shared_arms, world_of};
 use crate::world::{PosedShape, World};
 
-/// The shipped examples' arms (a TX-90 with hands, a gripper's fingers) and the shared ones.
+/// An arm on a rail: a sliding joint, then three turning ones (the last mimicking the
+/// second, turned by -4 times its angle), boxes and a ball off their axes.
+const RAIL: &str = r#"<?xml version="1.0"?>
+<robot name="rail">
+  <link name="base"><collision><geometry><box size="2 0.2 0.1"/></geometry></collision></link>
+  <link name="cart"><collision><origin xyz="0 0 0.1"/><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="upper"><collision><origin xyz="0.25 0.05 0"/><geometry><box size="0.5 0.08 0.08"/></geometry></collision></link>
+  <link name="fore"><collision><origin xyz="0.2 0 0.03" rpy="0.3 0 0.2"/><geometry><box size="0.4 0.06 0.06"/></geometry></collision></link>
+  <link name="tip"><collision><origin xyz="0.1 0.25 0"/><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="cart"/><axis xyz="1 0 0"/>
+    <limit lower="-0.8" upper="0.8" effort="1" velocity="1"/></joint>
+  <joint name="pan" type="revolute"><parent link="cart"/><child link="upper"/><origin xyz="0 0 0.2"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="lift" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0" rpy="0 -0.4 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="twist" type="revolute"><parent link="fore"/><child link="tip"/><origin xyz="0.4 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/><mimic joint="lift" multiplier="-4"/></joint>
+</robot>
+"#;
+
+/// The arm on a rail alone, from files of its own (tests run on parallel threads).
+fn rail() -> (String, World) {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("declutter-rail-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    std::fs::write(dir.join("rail.urdf"), RAIL).expect("a temporary file");
+    let file = dir.join("rail.dcl");
+    let text = "scenario \"rail\"\nrobot arm {\n    urdf \"rail.urdf\"\n    home [0m, 0, 0]\n}\ntarget arm at [0.1m, 0.2, -0.3]\n";
+    std::fs::write(&file, text).expect("a temporary file");
+    let w = world_of(&file);
+    let _ = std::fs::remove_dir_all(&dir);
+    ("rail".to_string(), w)
+}
+
+/// The shipped examples' arms (a TX-90 with hands, a gripper's fingers), the arm on a
+/// rail, and the shared ones.
 fn arms() -> Vec<(String, World)> {
-    ["box_lid", "gripper"].map(|n| (n.to_string(), example(n))).into_iter().chain(shared_arms()).collect()
+    ["box_lid", "gripper"]
+        .map(|n| (n.to_string(), example(n)))
+        .into_iter()
+        .chain([rail()])
+        .chain(shared_arms())
+        .collect()
 }
 
 fn random_q(w: &World, r: RobotId, rng: &mut ChaCha8Rng) -> Vec<f64> {
