@@ -34,10 +34,10 @@ pub(super) fn run(
     instants: &mut Vec<f64>,
 ) -> u64 {
     let cell = Cell::new(world, opts.clearance);
+    let held: Vec<f64> = tracks.iter().map(|tr| held_radius(world, tr, marks)).collect();
     let reach: Vec<Vec<f64>> =
-        tracks.iter().map(|tr| world.joint_reach(tr.robot).with_held(held_radius(world, tr, marks))).collect();
-    let axes: Vec<AxisReach> =
-        tracks.iter().map(|tr| world.axis_reach(tr.robot, held_radius(world, tr, marks))).collect();
+        tracks.iter().zip(&held).map(|(tr, &h)| world.joint_reach(tr.robot).with_held(h)).collect();
+    let axes: Vec<AxisReach> = tracks.iter().zip(&held).map(|(tr, &h)| world.axis_reach(tr.robot, h)).collect();
     let times = breakpoints(tl, tracks, marks);
     let n_objects = world.scenario().objects.len();
     let mut scratch = Scratch::default();
@@ -143,9 +143,9 @@ pub(super) fn run(
         }
         let speed = rates.iter().map(|r| r.iter().sum::<f64>()).fold(0.0, f64::max);
         // Steps of the bound (no point moves more between two instants), each window of the
-        // stretch by its own peak speeds and the arm's reach at its ends (a joint turns the
-        // arm's points at 0.4-0.6 times the reach that holds everywhere: half the instants
-        // where a path runs close to something); or longer where the instant just checked
+        // stretch by its own peak speeds and the arm's reach at its ends (along one Panda
+        // path, 0.4-0.6 times the reach that holds everywhere: 0.6 times the instants where
+        // it runs close to something); or longer where the instant just checked
         // proves that nothing can come too close before the next. The proofs take the
         // stretch's rates, with the reach that holds everywhere, so they hold across its
         // windows.
