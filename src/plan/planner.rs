@@ -101,6 +101,9 @@ impl Space for RobotSpace<'_> {
         }
         Ok(touched)
     }
+    fn escape_line(&self, q: &[f64]) -> Vec<Vec<f64>> {
+        self.world.escape_line(self.robot, q).into_iter().map(|c| c.0).collect()
+    }
     fn why_no_grasp(&self, o: ObjectId) -> Option<String> {
         Some(crate::world::why_ungraspable(self.world, self.robot, o))
     }

@@ -66,6 +66,11 @@ pub trait Space: Sync {
     fn fingers_clear(&self, _held: &Held, _q_grasp: &[f64], _checks: &mut u64) -> Result<ObjectSet, Blocker> {
         Ok(ObjectSet::new())
     }
+    /// Configurations leading the hand out of where `q` puts it, from `q` (left out) on,
+    /// unchecked; none where the space has no such notion (see `World::escape_line`).
+    fn escape_line(&self, _q: &[f64]) -> Vec<Vec<f64>> {
+        Vec::new()
+    }
     /// Why `grasps(o)` is empty, in words naming the cause, where the space can tell.
     fn why_no_grasp(&self, _o: ObjectId) -> Option<String> {
         None

@@ -16,6 +16,7 @@ mod chain;
 mod check;
 mod drawing;
 mod error;
+mod escape;
 mod fingers;
 mod grasps;
 mod hull;
