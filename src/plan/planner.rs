@@ -27,6 +27,9 @@ impl Space for RobotSpace<'_> {
     fn dof(&self) -> usize {
         self.world.dof(self.robot)
     }
+    fn has_objects(&self) -> bool {
+        !self.world.scenario().objects.is_empty()
+    }
     fn limits(&self) -> &[(f64, f64)] {
         self.world.limits(self.robot)
     }

@@ -71,6 +71,11 @@ pub trait Space: Sync {
     fn escape_line(&self, _q: &[f64]) -> Vec<Vec<f64>> {
         Vec::new()
     }
+    /// Whether the scene holds objects, which can label a path; without any a path
+    /// touches nothing or is blocked, and the free-space trees search first (see `run`).
+    fn has_objects(&self) -> bool {
+        true
+    }
     /// Why `grasps(o)` is empty, in words naming the cause, where the space can tell.
     fn why_no_grasp(&self, _o: ObjectId) -> Option<String> {
         None

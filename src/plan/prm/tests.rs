@@ -165,12 +165,23 @@ struct Slit {
     pocket: bool,
     /// What `escape_line` gives for [`POCKET`] (nothing elsewhere).
     escape: Vec<Vec<f64>>,
+    /// What `has_objects` says.
+    objects: bool,
 }
 
 impl Slit {
     fn new(hole: f64) -> Slit {
         let limits = vec![(-1.0, 1.0); 3];
-        Slit { limits, home: vec![-0.8, -0.7, 0.7], hole, door: true, wall: 0.05, pocket: false, escape: Vec::new() }
+        Slit {
+            limits,
+            home: vec![-0.8, -0.7, 0.7],
+            hole,
+            door: true,
+            wall: 0.05,
+            pocket: false,
+            escape: Vec::new(),
+            objects: true,
+        }
     }
     fn at(&self, q: &[f64]) -> Check {
         let out_of_pocket = q[0] >= 0.25 || q[1].abs() >= 0.3 || q[2].abs() >= 0.3;
@@ -226,6 +237,9 @@ impl Space for Slit {
     }
     fn held(&self, o: ObjectId, _: usize, _: &[f64]) -> Held {
         Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }
+    }
+    fn has_objects(&self) -> bool {
+        self.objects
     }
     fn escape_line(&self, q: &[f64]) -> Vec<Vec<f64>> {
         if q == POCKET {
@@ -438,6 +452,36 @@ fn configuration_queries_go_through_the_hole_not_the_door() {
         }
     }
     assert_eq!(free, 6);
+}
+
+/// A wall with a narrow hole and no door, so nothing can label a path: where the space
+/// says it holds no objects, the free trees search from the first round, before the
+/// roadmap, and the queries of seeds 0..8 spend fewer checks in all (255 400) than with
+/// the roadmap's first rounds searched first (269 294); every path goes through the hole,
+/// clear at the certifying resolution. (Through a hole twice as wide the small roadmap
+/// is the cheaper, 39 471 checks against 54 172: the families' rows gain because their
+/// passages are narrow, see the performance log.)
+#[test]
+fn without_objects_the_free_trees_search_first_and_spend_less() {
+    let spent = |objects: bool| {
+        let mut checks = 0;
+        for seed in 0..8 {
+            let settings = PlannerSettings { max_samples: 5000, seed, ..PlannerSettings::default() };
+            let space = Slit { door: false, objects, ..Slit::new(0.06) };
+            let p = RobotPlanner::new(space, &settings, &PrmOptions::default(), 0);
+            let answer = p.query(&Goal::Reach(Config(BEHIND.to_vec())));
+            let found = answer.result.expect("a path through the hole");
+            assert!(found.removals.is_empty());
+            for w in found.approach.0.windows(2) {
+                let c = p.space().check_motion(&w[0].0, &w[1].0, p.settings.resolution, &Mode::default(), &mut 0);
+                assert_eq!(c, Check::free());
+            }
+            checks += answer.stats.checks;
+        }
+        checks
+    };
+    let (first, after) = (spent(false), spent(true));
+    assert!(first < after, "trees first {first} checks, the roadmap first {after}");
 }
 
 /// A wall with no hole and no door: the query gives up having spent both budgets, the
