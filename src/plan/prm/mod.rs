@@ -255,6 +255,16 @@ impl<S: Space> RobotPlanner<S> {
             if trees && r <= SEARCH_FIRST_ROUNDS {
                 cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks);
             }
+            // In the first rounds the free-space trees grow only after the round's
+            // roadmap found no path at all (a query the small roadmap answers, with
+            // removals or without, spends nothing on them), and before the goal trees:
+            // such a query is most often a narrow passage, which they get through, and
+            // the goal trees and the second search are then not needed.
+            if cand.is_none() && best.is_none() && trees && r < free_first {
+                if let Some(found) = grow_free(&mut free, true, checks) {
+                    return Ok(found);
+                }
+            }
             if cand.is_none() {
                 if trees {
                     for g in &live {
@@ -262,14 +272,6 @@ impl<S: Space> RobotPlanner<S> {
                     }
                 }
                 cand = self.search_round(r, object, &live, drop, (objective, bound, trees), checks);
-            }
-            // In the first rounds the trees grow only after the round's roadmap found no
-            // path at all: a query the small roadmap answers (with removals or without)
-            // spends nothing on them.
-            if cand.is_none() && best.is_none() && trees && r < free_first {
-                if let Some(found) = grow_free(&mut free, true, checks) {
-                    return Ok(found);
-                }
             }
             let cand = cand.map(|mut c| {
                 c.goal = goals.iter().position(|g| g.key == live[c.goal].key).expect("live goal");
