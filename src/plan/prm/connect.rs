@@ -7,10 +7,11 @@
 //! samples where two trees pulling towards each other get through. A path found here
 //! touches nothing, so it removes nothing: the fewest removals there are. Each round
 //! grows the two trees by [`PER_SAMPLE_NONE`] extension attempts per roadmap sample the
-//! round draws while the query has no path at all (in rounds 1 and 2 only once the
-//! round's small roadmap found none), and from the third on by [`PER_SAMPLE_FEWER`]
-//! while it has one with removals (so `max_samples` bounds them too, and a query with an
-//! answer pays less for a better one), continuing from
+//! round draws while the query has no path at all (in rounds 1 and 2 of a scene with
+//! objects only once the round's small roadmap found none, and then before the goal
+//! trees; without objects from round 1, before the roadmap's search), and from the
+//! third on by [`PER_SAMPLE_FEWER`] while it has one with removals (so `max_samples`
+//! bounds them too, and a query with an answer pays less for a better one), continuing from
 //! where the last round stopped, with its own seeded stream: the trees are a function
 //! of the seed, the goal and the round, as the roadmap is. As the goal trees do, half
 //! the extensions aim near a node of the growing tree, half at a uniform sample.
