@@ -190,6 +190,14 @@ impl<S: Space> RobotPlanner<S> {
         // `None` inside when home or every goal touches something.
         let mut free: Option<free::FreeSearch> = None;
         let mut free_ready = false;
+        // The first round whose search the free-space trees precede. In a scene without
+        // objects the first: there every path is free or blocked, and the first rounds'
+        // searches (with their goal trees) mostly spent checks on queries the trees
+        // answer anyway (the families' objectless rows' medians fell by a tenth, the
+        // UR5's `cage` 11.4 -> 8.1 ms). With objects the roadmap still comes first in
+        // the first rounds: a path it finds with removals bounds the rest, and a roadmap
+        // that earlier queries grew answers at little cost.
+        let free_first = if self.space.has_objects() { SEARCH_FIRST_ROUNDS + 1 } else { 1 };
         for r in 0..=max_r {
             last = r;
             self.ensure_round(r, stats, checks);
@@ -227,14 +235,8 @@ impl<S: Space> RobotPlanner<S> {
             // From the third round on, while no path touching nothing is known (and a
             // first path is not all that was asked for), the free-space trees grow beside
             // the roadmap, before the round's search: when they get through, the round's
-            // graph (the largest yet) is not searched. In a scene without objects they do
-            // so from the first round: there every path is free or blocked, and the first
-            // rounds' searches (with their goal trees) mostly spent checks on queries the
-            // trees answer anyway (the families' objectless rows' medians fell by a tenth,
-            // the UR5's `cage` 11.4 -> 8.1 ms). With objects the roadmap still comes first:
-            // a path it finds with removals bounds the rest, and a roadmap that earlier
-            // queries grew answers at little cost.
-            let free_first = if self.space.has_objects() { SEARCH_FIRST_ROUNDS + 1 } else { 1 };
+            // graph (the largest yet) is not searched. Without objects, from the first
+            // round (see `free_first`).
             let wanted = match &best {
                 None => true,
                 Some((b, _)) => {
