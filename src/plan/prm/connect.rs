@@ -320,7 +320,7 @@ impl FreeConnect {
                 from.clone_from(q);
                 ok
             });
-            if line.is_empty() || !clear {
+            if !clear {
                 continue;
             }
             let mut parent = root;
