@@ -15,7 +15,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
 mod pairs;
 
-use super::scene::{Cell, RobotAt, Scratch, Side};
+use super::scene::{depth_slack, Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{
     aabb_gap, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet, LOWER_BOUND_TOLERANCE,
@@ -475,6 +475,11 @@ impl Cell<'_> {
                     &mut memory.hints[k],
                 );
                 let d = d.map_or(gap, |d| d.max(gap));
+                // Touching within the tolerance, where only contact counts: how much deeper.
+                let d = match d <= 0.0 && must == 0.0 {
+                    true => depth_slack(x, y).unwrap_or(d),
+                    false => d,
+                };
                 slack = slack.min(d - must);
                 *free = free.min(((d - must) / speed).max(0.0));
             }

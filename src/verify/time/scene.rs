@@ -11,7 +11,8 @@ use parry3d_f64::shape::Shape;
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{
-    shape_distance, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape, World, CONTACT_TOLERANCE,
+    distance_at_least, shape_distance, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape,
+    World, CONTACT_TOLERANCE, LOWER_BOUND_TOLERANCE,
 };
 
 /// One robot at the instant.
@@ -270,6 +271,40 @@ fn near(a: Side, b: Side, clearance: f64) -> Option<Option<f64>> {
     touching.then_some(None)
 }
 
+/// What [`depth_slack`] keeps back from the depth [`near`] allows: more than GJK's and
+/// EPA's errors on the two measures it stands between (its own now, the check's later).
+const DEPTH_MARGIN: f64 = 1e-4;
+
+/// Two shapes that touch, checked for contact only ([`near`] without clearance): a lower
+/// bound on how far their points may yet move towards each other before [`near`] reports
+/// them, or `None` when it cannot say (0 is then the pair's slack). [`near`] reports an
+/// overlap deeper than the tolerance: a primitive side's eroded form meeting the other
+/// side (either way round: the least of both is taken, whichever side [`near`] erodes),
+/// else, for two convex shapes, a penetration depth beyond the tolerance. Both measures
+/// shrink no faster than the points move (a point of one side inside the other as deep as
+/// the depth stays inside while it moves less), so the replay bounds them as it bounds a
+/// distance. A grasp pose or a goal may touch within the tolerance, and without this its
+/// pairs would prove nothing for as long as they touch: the replay checked the whole
+/// cell at every step there.
+pub(super) fn depth_slack(a: Side, b: Side) -> Option<f64> {
+    let eroded_gap = |p: &PPose, e: &dyn Shape, q: &PPose, other: &dyn Shape| {
+        distance_at_least(p, e, q, other, LOWER_BOUND_TOLERANCE)
+    };
+    let slack = match (a.eroded, b.eroded) {
+        (Some(ea), Some(eb)) => eroded_gap(a.pose, ea, b.pose, b.shape)?.min(eroded_gap(b.pose, eb, a.pose, a.shape)?),
+        (Some(e), None) => eroded_gap(a.pose, e, b.pose, b.shape)?,
+        (None, Some(e)) => eroded_gap(b.pose, e, a.pose, a.shape)?,
+        (None, None) if a.shape.is_convex() && b.shape.is_convex() => {
+            match query::contact(a.pose, a.shape, b.pose, b.shape, 0.0) {
+                Ok(Some(c)) => CONTACT_TOLERANCE + c.dist,
+                _ => return None,
+            }
+        }
+        (None, None) => return None,
+    };
+    Some(slack - DEPTH_MARGIN).filter(|s| *s > 0.0)
+}
+
 /// Per body, the run of `posed` holding its shapes; `None` unless each body's shapes are
 /// one run (empty for a body without shapes).
 fn body_runs(posed: &[PosedShape], bodies: usize) -> Option<Vec<std::ops::Range<usize>>> {
@@ -293,7 +328,9 @@ fn body_runs(posed: &[PosedShape], bodies: usize) -> Option<Vec<std::ops::Range<
 
 #[cfg(test)]
 mod tests {
+    use parry3d_f64::math::{Rotation, Vector};
     use parry3d_f64::shape::SharedShape;
+    use proptest::prelude::*;
 
     use super::*;
 
@@ -306,6 +343,146 @@ mod tests {
             aabb: Aabb::new_invalid(),
         };
         bodies.iter().map(|&b| one(b)).collect()
+    }
+
+    /// A shape placed for a test, its eroded form (a primitive's, as the world erodes it)
+    /// placed with it.
+    struct Placed {
+        shape: SharedShape,
+        eroded: Option<SharedShape>,
+        pose: PPose,
+        aabb: Aabb,
+    }
+
+    fn placed(shape: SharedShape, eroded: Option<SharedShape>, pose: PPose) -> Placed {
+        let aabb = shape.compute_aabb(&pose);
+        Placed { shape, eroded, pose, aabb }
+    }
+
+    fn side(p: &Placed) -> Side<'_> {
+        Side { pose: &p.pose, shape: &*p.shape.0, eroded: p.eroded.as_ref().map(|e| &*e.0), aabb: &p.aabb }
+    }
+
+    fn up(z: f64) -> PPose {
+        PPose::from_parts(Vector::new(0.0, 0.0, z), Rotation::IDENTITY)
+    }
+
+    /// The corners of a box of half extents `h`.
+    fn corners(h: Vector) -> Vec<Vector> {
+        (0..8).map(|i| Vector::new(h.x * sign(i, 1), h.y * sign(i, 2), h.z * sign(i, 4))).collect()
+    }
+
+    fn sign(i: usize, bit: usize) -> f64 {
+        if i & bit == 0 {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+
+    fn hull_box(h: Vector) -> SharedShape {
+        SharedShape::convex_hull(&corners(h)).expect("a box's hull")
+    }
+
+    /// A wall 10 cm thick, its top face at z = 0.05.
+    fn wall() -> Placed {
+        placed(SharedShape::cuboid(0.5, 0.5, 0.05), None, PPose::IDENTITY)
+    }
+
+    fn assert_near(got: Option<f64>, want: f64) {
+        match got {
+            Some(g) => assert!((g - want).abs() < 1e-9, "{g} against {want}"),
+            None => panic!("no slack, {want} expected"),
+        }
+    }
+
+    /// By hand: a ball of 5 cm (eroded to 4.9 cm) 0.4 mm into a wall has its eroded form
+    /// 0.6 mm off it; a hull 0.3 mm in may go 0.7 mm deeper; each less the margin, either
+    /// way round. Too deep, or too near the tolerance to leave more than the margin, or a
+    /// shape that is not convex: nothing to say.
+    #[test]
+    fn the_depth_slack_is_what_the_tolerance_leaves_of_the_overlap() {
+        let wall = wall();
+        let ball = placed(SharedShape::ball(0.05), Some(SharedShape::ball(0.049)), up(0.0996));
+        assert_near(depth_slack(side(&ball), side(&wall)), 0.0006 - DEPTH_MARGIN);
+        assert_near(depth_slack(side(&wall), side(&ball)), 0.0006 - DEPTH_MARGIN);
+        let cube = |depth: f64| placed(hull_box(Vector::splat(0.05)), None, up(0.1 - depth));
+        assert_near(depth_slack(side(&cube(0.0003)), side(&wall)), 0.0007 - DEPTH_MARGIN);
+        assert_near(depth_slack(side(&wall), side(&cube(0.0003))), 0.0007 - DEPTH_MARGIN);
+        assert_eq!(depth_slack(side(&cube(0.00095)), side(&wall)), None);
+        assert_eq!(depth_slack(side(&cube(0.0012)), side(&wall)), None);
+        // Two primitives with eroded forms: a box 0.2 mm into the ball, the box eroded by 1 mm
+        // and the ball by 1 mm; the least of the two eroded gaps (0.8 mm each).
+        let block =
+            placed(SharedShape::cuboid(0.05, 0.05, 0.05), Some(SharedShape::cuboid(0.049, 0.049, 0.049)), up(0.0));
+        let on_top = placed(SharedShape::ball(0.05), Some(SharedShape::ball(0.049)), up(0.0998));
+        assert_near(depth_slack(side(&block), side(&on_top)), 0.0008 - DEPTH_MARGIN);
+        let pair = SharedShape::compound(vec![
+            (PPose::IDENTITY, SharedShape::cuboid(0.05, 0.05, 0.05)),
+            (up(0.2), SharedShape::cuboid(0.05, 0.05, 0.05)),
+        ]);
+        assert_eq!(depth_slack(side(&placed(pair, None, up(0.0997))), side(&wall)), None);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+        /// Whatever rigid motion moves no point of a touching shape by its depth slack or more
+        /// leaves the pair clear as [`near`] sees contact: a ball or a box with their eroded
+        /// forms, or a hull, turned any way, into a wall or a hull block by up to 1.2 mm.
+        #[test]
+        fn moving_less_than_the_depth_slack_never_makes_contact(
+            kind in 0usize..3,
+            block in any::<bool>(),
+            depth in 0.0f64..0.0012,
+            turn in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            axis in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            centre in (-0.1f64..0.1, -0.1f64..0.1, -0.1f64..0.1),
+            shift in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            spin in 0.0f64..1.0,
+            fraction in 0.0f64..0.999,
+        ) {
+            let fixed = match block {
+                false => wall(),
+                true => placed(hull_box(Vector::new(0.3, 0.3, 0.05)), None, PPose::IDENTITY),
+            };
+            let (shape, eroded) = match kind {
+                0 => (SharedShape::ball(0.05), Some(SharedShape::ball(0.049))),
+                1 => (SharedShape::cuboid(0.04, 0.06, 0.05), Some(SharedShape::cuboid(0.039, 0.059, 0.049))),
+                _ => (
+                    SharedShape::convex_hull(&[
+                        Vector::new(0.06, 0.0, -0.03), Vector::new(-0.04, 0.05, -0.02), Vector::new(-0.03, -0.05, 0.0),
+                        Vector::new(0.0, 0.01, 0.07), Vector::new(0.02, -0.02, -0.05),
+                    ])
+                    .expect("a hull"),
+                    None,
+                ),
+            };
+            let direction = |v: (f64, f64, f64)| {
+                let v = Vector::new(v.0, v.1, v.2);
+                if v.length() > 1e-3 { v.normalize() } else { Vector::X }
+            };
+            let rotation = Rotation::from_axis_angle(direction(turn), 3.0 * Vector::new(turn.0, turn.1, turn.2).length());
+            // Its lowest point `depth` below the top face at z = 0.05.
+            let lowest = shape.compute_aabb(&PPose::from_parts(Vector::ZERO, rotation)).mins.z;
+            let start = PPose::from_parts(Vector::new(0.0, 0.0, 0.05 - depth - lowest), rotation);
+            let moving = placed(shape.clone(), eroded.clone(), start);
+            let slack = depth_slack(side(&moving), side(&fixed));
+            prop_assume!(slack.is_some());
+            let slack = slack.unwrap_or(0.0);
+            // Turn by `angle` about an axis through `c`, then shift by `v`: no point within
+            // `reach` of `c` moves more than angle · reach + |v|.
+            let c = start.translation + Vector::new(centre.0, centre.1, centre.2);
+            let reach = (start.translation - c).length() + shape.compute_local_bounding_sphere().radius;
+            let (angle, v) = (spin, Vector::new(shift.0, shift.1, shift.2));
+            let scale = fraction * slack / (angle * reach + v.length()).max(1e-12);
+            let about = PPose::from_parts(c, Rotation::from_axis_angle(direction(axis), angle * scale));
+            let motion = PPose::from_parts(v * scale, Rotation::IDENTITY) * about * PPose::from_parts(-c, Rotation::IDENTITY);
+            let moved = placed(shape, eroded, motion * start);
+            prop_assert!(
+                near(side(&moved), side(&fixed), 0.0).is_none(),
+                "slack {} moved up to {}: contact", slack, fraction * slack
+            );
+        }
     }
 
     /// Runs are each body's shapes in order; a body in two runs, or one the robot does not
