@@ -39,6 +39,12 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn touches_nothing(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        let c = ctx(mode);
+        let out = self.world.touches_nothing(self.robot, q, &c);
+        *checks += c.count();
+        out
+    }
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
         let c = ctx(mode);
         let out = self.world.check_segment(self.robot, a, b, step, &c);

@@ -20,6 +20,10 @@ pub trait Space: Sync {
     fn limits(&self) -> &[(f64, f64)];
     /// Labelled check of one configuration; adds the configurations checked to `checks`.
     fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check;
+    /// Whether `check` would say `Touches` with no label; a space may say so sooner.
+    fn touches_nothing(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
+        matches!(self.check(q, mode, checks), Check::Touches(l) if l.is_empty())
+    }
     /// Labelled check of the straight joint-space segment `a`-`b` (endpoints included),
     /// at steps no longer than `step`.
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check;

@@ -259,10 +259,14 @@ pub(super) struct Scratch {
     self_separating: Vec<PVec>,
     /// Two bodies' balls placed (see [`bodies_collide`]).
     packed: [super::ball_pack::PlacedBalls; 2],
+    /// The moving body and scene entry of this check's first contact, if any.
+    pub(super) hit: Option<(usize, u32)>,
+    /// The pairs [`super::clear`] tries first (see there).
+    pub(super) recent: super::clear::Recent,
 }
 
 thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    pub(super) static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
 /// The world box of a moving shape. A mesh hull's own box visits every vertex (half of a
@@ -283,7 +287,7 @@ pub(crate) fn moving_aabb(p: &Placed, pose: &PPose) -> Aabb {
 /// them ([`pose_body`]): most bodies of most checks are near nothing, and their boxes
 /// (one per body, not one per shape) say so. The boxes are broad-phase filters only:
 /// every verdict still comes from the shapes' own boxes and the exact tests.
-fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
+pub(super) fn pose_robot(m: &RobotModel, q: &[f64], posture: usize, s: &mut Scratch) {
     start_posing(m, q, posture, s);
     s.body_aabb.clear();
     if !m.fast_check {
@@ -352,29 +356,41 @@ pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
 }
 
 fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: bool) -> Check {
-    ctx.checks.set(ctx.checks.get() + 1);
     let m = &w.robots[r.index()];
-    assert_dof(m, q);
-    for ((v, (lo, hi)), name) in q.iter().zip(&m.chain.limits).zip(&m.chain.joint_names) {
-        if !(*v >= lo - LIMIT_SLACK && *v <= hi + LIMIT_SLACK) {
-            return Check::Blocked(Blocker::JointLimit { joint: name.clone(), value: *v });
-        }
+    if let Some(blocked) = count_within_limits(m, q, ctx) {
+        return blocked;
     }
     SCRATCH.with(|cell| {
         let mut s = cell.borrow_mut();
         let posture = ctx.held.as_ref().map_or(OPEN, |h| h.posture);
         pose_robot(m, q, posture, &mut s);
         let check = check_posed(w, m, ctx, &mut s, robot_part, (q, posture));
-        let placed = s.body_posed.iter().filter(|p| **p).count() as u64;
-        ctx.bodies_placed.set(ctx.bodies_placed.get() + placed);
+        count_placed(ctx, &s);
         check
     })
+}
+
+/// Counts one configuration checked; the block when a joint is outside its limits.
+pub(super) fn count_within_limits(m: &RobotModel, q: &[f64], ctx: &CheckCtx) -> Option<Check> {
+    ctx.checks.set(ctx.checks.get() + 1);
+    assert_dof(m, q);
+    for ((v, (lo, hi)), name) in q.iter().zip(&m.chain.limits).zip(&m.chain.joint_names) {
+        if !(*v >= lo - LIMIT_SLACK && *v <= hi + LIMIT_SLACK) {
+            return Some(Check::Blocked(Blocker::JointLimit { joint: name.clone(), value: *v }));
+        }
+    }
+    None
+}
+
+pub(super) fn count_placed(ctx: &CheckCtx, s: &Scratch) {
+    let placed = s.body_posed.iter().filter(|p| **p).count() as u64;
+    ctx.bodies_placed.set(ctx.bodies_placed.get() + placed);
 }
 
 /// `robot_part: false` leaves out the robot's own bodies (against the scene and each
 /// other) and checks only the carried object: what carrying adds to a configuration
 /// whose empty-hand check is already known.
-fn check_posed(
+pub(super) fn check_posed(
     w: &World,
     m: &RobotModel,
     ctx: &CheckCtx,
@@ -384,13 +400,10 @@ fn check_posed(
 ) -> Check {
     let held_obj = ctx.held.as_ref().map(|h| h.object);
     let mut labels = ObjectSet::new();
+    s.hit = None;
     if robot_part {
         // Robot bodies against the static scene.
-        let entries = m.scene.entries.len();
-        if s.separating.len() != m.shapes.len() * entries {
-            s.separating.clear();
-            s.separating.resize(m.shapes.len() * entries, PVec::ZERO);
-        }
+        size_separating(m, s);
         for (bi, b) in m.bodies.iter().enumerate() {
             if !b.moving {
                 continue;
@@ -404,29 +417,8 @@ fn check_posed(
                         continue;
                     }
                 }
-                // A body of balls against a box: all its balls at once, unplaced.
-                let pack = m.ball_packs[bi].as_ref().filter(|_| m.fast_check && e.obb.exact);
-                let packed =
-                    pack.and_then(|p| p.meets_box(posture, &s.link_pose[b.link], &e.pose, e.obb.cuboid.half_extents));
-                let hit = packed.unwrap_or_else(|| {
-                    pose_body(m, s, bi);
-                    b.shapes.clone().any(|si| {
-                        let placed = &m.shapes[si].placed;
-                        let ball = placed.eroded_ball.filter(|_| m.fast_check && e.obb.exact);
-                        s.shape_aabb[si].intersects(&e.aabb)
-                            && ball
-                                .and_then(|r| {
-                                    ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents)
-                                })
-                                .unwrap_or_else(|| {
-                                    let dir = &mut s.separating[si * entries + leaf as usize];
-                                    let (mover, other) =
-                                        ((&s.shape_pose[si], placed, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
-                                    collide_moving(mover, other, dir, &ctx.inner_proved)
-                                })
-                    })
-                });
-                if hit {
+                if body_meets_entry(m, s, bi, leaf, &ctx.inner_proved) {
+                    s.hit = Some((bi, leaf));
                     match e.owner {
                         Owner::Fixed(body) => return Check::Blocked(Blocker::Fixed { body, link: b.name.clone() }),
                         Owner::Robot(other, ob) => {
@@ -524,6 +516,48 @@ fn check_posed(
         }
     }
     Check::Touches(labels)
+}
+
+/// Sizes the scratch's separating directions for `m`'s shapes and scene entries.
+pub(super) fn size_separating(m: &RobotModel, s: &mut Scratch) {
+    let n = m.shapes.len() * m.scene.entries.len();
+    if s.separating.len() != n {
+        s.separating.clear();
+        s.separating.resize(n, PVec::ZERO);
+    }
+}
+
+/// Whether moving body `bi`, posed in `s` (see [`pose_robot`]), meets scene entry
+/// `leaf` deeper than the tolerance; `s.separating` sized by [`size_separating`].
+pub(super) fn body_meets_entry(
+    m: &RobotModel,
+    s: &mut Scratch,
+    bi: usize,
+    leaf: u32,
+    inner_proved: &Cell<u64>,
+) -> bool {
+    let b = &m.bodies[bi];
+    let e = &m.scene.entries[leaf as usize];
+    let entries = m.scene.entries.len();
+    // A body of balls against a box: all its balls at once, unplaced.
+    let pack = m.ball_packs[bi].as_ref().filter(|_| m.fast_check && e.obb.exact);
+    let packed = pack.and_then(|p| p.meets_box(s.posture, &s.link_pose[b.link], &e.pose, e.obb.cuboid.half_extents));
+    packed.unwrap_or_else(|| {
+        pose_body(m, s, bi);
+        b.shapes.clone().any(|si| {
+            let placed = &m.shapes[si].placed;
+            let ball = placed.eroded_ball.filter(|_| m.fast_check && e.obb.exact);
+            s.shape_aabb[si].intersects(&e.aabb)
+                && ball
+                    .and_then(|r| ball_meets_box(s.shape_pose[si].translation, r, &e.pose, e.obb.cuboid.half_extents))
+                    .unwrap_or_else(|| {
+                        let dir = &mut s.separating[si * entries + leaf as usize];
+                        let (mover, other) =
+                            ((&s.shape_pose[si], placed, m.fast_check), (&e.pose, &*e.shape.0, &e.obb));
+                        collide_moving(mover, other, dir, inner_proved)
+                    })
+        })
+    })
 }
 
 pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize) -> bool {

@@ -14,6 +14,7 @@ mod ball_pack;
 mod build;
 mod chain;
 mod check;
+mod clear;
 mod drawing;
 mod error;
 mod escape;
@@ -225,6 +226,10 @@ impl World {
     /// [`World::dof`]; a value outside the limits is `Blocked(JointLimit)`, not a panic.
     pub fn check(&self, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
         check::check(self, r, q, ctx)
+    }
+    /// Whether [`World::check`] would say `Touches` with no label, sooner when it would not.
+    pub fn touches_nothing(&self, r: RobotId, q: &[f64], ctx: &CheckCtx) -> bool {
+        clear::touches_nothing(self, r, q, ctx)
     }
     /// Checks the straight joint-space segment `a`..`b`, no joint moving more than
     /// `step` between checked configurations, both ends included: the union of the

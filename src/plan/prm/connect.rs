@@ -33,7 +33,6 @@ use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
-use crate::world::Check;
 
 /// Extension attempts (each followed by a connect) per roadmap sample while the query
 /// has no path: without them it gives up. (With 64 the Panda's `narrow_gap` 13 was solved
@@ -368,6 +367,6 @@ impl<S: Space> RobotPlanner<S> {
     }
 
     fn free(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        matches!(self.space.check(q, mode, checks), Check::Touches(l) if l.is_empty())
+        self.space.touches_nothing(q, mode, checks)
     }
 }

@@ -61,9 +61,8 @@ impl<S: Space> RobotPlanner<S> {
     /// inside something, which one check then says (the UR5's `narrow_gap` 66: 4 % fewer
     /// checks). Whether the step is clear does not depend on the order.
     pub(super) fn coarse_clear_leaving(&self, a: &[f64], b: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        let none = ObjectSet::new();
-        within(self.space.check(b, mode, checks), &none)
-            && self.coarse_within((a, b), (true, true), mode, &none, checks)
+        self.space.touches_nothing(b, mode, checks)
+            && self.coarse_within((a, b), (true, true), mode, &ObjectSet::new(), checks)
     }
 
     /// The samples of the certifying check of a -> b that the coarse one does not take
