@@ -85,7 +85,8 @@ pub(super) struct Memory {
     hints: Vec<GjkStart>,
     /// Per movers: whether any pair has them.
     populated: Vec<bool>,
-    /// The stretch's rates (see [`Cell::free_time`]): the speeds below hold while these do.
+    /// The rates of the stretch's part (see [`Cell::free_time`]): the speeds below hold
+    /// while these do.
     rates: Vec<Vec<f64>>,
     /// Per movers on this stretch: how fast they can close a pair in.
     speed: Vec<f64>,
@@ -307,7 +308,8 @@ impl Memory {
 impl Cell<'_> {
     /// How long from the instant last checked (posed in `s`) nothing can come closer than
     /// the checks allow. `rates[r][j]`: how fast joint `j` of robot `r` can move any point
-    /// it moves (its reach times its peak speed on the stretch), so that a robot's points
+    /// it moves (its reach times its peak speed from now to the stretch's end), so that a
+    /// robot's points
     /// move at most the sum of its rates, one body's at most the sum of each rate weighed by
     /// the body's own reach, and two of its own bodies apart at most the sum over the joints
     /// that move one and not the other; `odometers[r][j]`: the integral of

@@ -153,8 +153,9 @@ pub(super) fn run(
         // path, 0.4-0.6 times the reach that holds everywhere: 0.6 times the instants where
         // it runs close to something); or longer where the instant just checked
         // proves that nothing can come too close before the next. The proofs take the
-        // stretch's rates, with the reach that holds everywhere, so they hold across its
-        // windows.
+        // reach that holds everywhere and, in each part of the stretch, the peak speeds
+        // from the part's start to the stretch's end (see below), so they hold across its
+        // windows to its end.
         let uniform = ((speed * (tb - ta) / opts.bound).ceil().max(1.0)).min(u32::MAX as f64) as u64;
         let mut grid = Grid::new(ta, tb, uniform.min(WINDOWS), opts.bound, |a, b| {
             let mut fastest = 0.0f64;
