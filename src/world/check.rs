@@ -259,7 +259,8 @@ pub(super) struct Scratch {
     self_separating: Vec<PVec>,
     /// Two bodies' balls placed (see [`bodies_collide`]).
     packed: [super::ball_pack::PlacedBalls; 2],
-    /// The moving body and scene entry of this check's first contact, if any.
+    /// The moving body and scene entry of the last contact this check's scan found (a
+    /// fixed body's ends the scan), if any.
     pub(super) hit: Option<(usize, u32)>,
     /// The pairs [`super::clear`] tries first (see there).
     pub(super) recent: super::clear::Recent,
