@@ -28,7 +28,7 @@ use super::scene::Owner;
 use super::shapes::{aabb_of, ball_meets_box, boxes_intersect, place, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
-use crate::resolve::RobotId;
+use crate::resolve::{ObjectId, RobotId};
 
 /// Joint values this far outside a limit still count as inside (rounding of written degrees).
 pub(crate) const LIMIT_SLACK: f64 = 1e-9;
@@ -64,6 +64,10 @@ impl CheckCtx {
     /// Configurations checked so far.
     pub fn count(&self) -> u64 {
         self.checks.get()
+    }
+    /// Whether object `o` is left out of the check: absent, or the one carried.
+    pub(super) fn not_there(&self, o: ObjectId) -> bool {
+        self.absent.contains(o) || self.held.as_ref().is_some_and(|h| h.object == o)
     }
 }
 
@@ -399,7 +403,6 @@ pub(super) fn check_posed(
     robot_part: bool,
     (q, posture): (&[f64], usize),
 ) -> Check {
-    let held_obj = ctx.held.as_ref().map(|h| h.object);
     let mut labels = ObjectSet::new();
     s.hit = None;
     if robot_part {
@@ -414,7 +417,7 @@ pub(super) fn check_posed(
                 let leaf = s.leaves[k];
                 let e = &m.scene.entries[leaf as usize];
                 if let Owner::Object(o) = e.owner {
-                    if Some(o) == held_obj || ctx.absent.contains(o) || labels.contains(o) {
+                    if ctx.not_there(o) || labels.contains(o) {
                         continue;
                     }
                 }
@@ -479,7 +482,7 @@ pub(super) fn check_posed(
                 let leaf = s.leaves[k];
                 let e = &m.scene.entries[leaf as usize];
                 if let Owner::Object(o) = e.owner {
-                    if o == h.object || ctx.absent.contains(o) || labels.contains(o) {
+                    if ctx.not_there(o) || labels.contains(o) {
                         continue;
                     }
                 }
