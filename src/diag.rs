@@ -1,7 +1,7 @@
 //! Spans, the source map, file loading, and rendering of diagnostics.
 //!
 //! Phase errors carry [`Span`]s (file id + byte range), never source text. The
-//! text is attached only when a report is printed ([`render`]), so errors stay
+//! text is attached only when a report is printed ([`render_one`], [`render_all`]), so errors stay
 //! small, `Copy`-friendly and comparable in tests.
 
 use std::fmt;

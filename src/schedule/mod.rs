@@ -1,7 +1,7 @@
 //! Schedule: a planned [`Solution`], timed -> the [`Schedule`] a user runs, and its writers.
 //!
 //! In: the world and the solution of [`plan::andor::solve`](crate::plan::andor::solve);
-//! the actions are placed in time by [`timing`](crate::timing). Out: a `Schedule`
+//! the actions are placed in time by [`crate::timing`]. Out: a `Schedule`
 //! (format version [`SCHEDULE_VERSION`]; serde, both ways, so `verify` can read it back), written as YAML
 //! ([`to_yaml`]) or JSON ([`to_json`]), and G as Graphviz DOT ([`to_dot`]). Everything
 //! written is in a fixed order: actions in execution order, `after` sorted, graph

@@ -3,29 +3,22 @@
 //!
 //! Broad phase: the AABB of each moving body against a parry BVH of everything
 //! static for that robot (fixed bodies, removable objects, other robots at home).
-//! Narrow phase: overlaps shallower than [`CONTACT_TOLERANCE`] are not collisions,
-//! so a can standing on the table does not touch it. A moving primitive (box,
-//! cylinder, capsule, sphere) is eroded by the tolerance once at build time and
-//! tested with one `intersection_test` (a box against a box by the fifteen-axis
-//! separating test, `boxes_intersect`; a ball against a fixed box by its centre's
-//! distance, `ball_meets_box`); a mesh hull is tested with GJK, then
-//! `contact` measures the depth of pairs that intersect, unless GJK's last simplex or a
-//! box shrunk by twice the tolerance already proves them that deep (no measure).
+//! Narrow phase ([`super::narrow`]): overlaps shallower than the contact tolerance are
+//! not collisions, so a can standing on the table does not touch it; a ball against a
+//! fixed box is decided by its centre's distance (`ball_meets_box`), a spherized body's
+//! balls all at once (`ball_pack`). The segment checks are in [`super::segment`].
 
 use std::cell::{Cell, RefCell};
 
 use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
-use parry3d_f64::query;
-use parry3d_f64::query::gjk::VoronoiSimplex;
-use parry3d_f64::shape::{Cuboid, Shape};
 
-use super::hull::Ball;
+use super::narrow::{collide_moving, no_start};
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
 use super::scene::Owner;
-use super::shapes::{aabb_of, ball_meets_box, boxes_intersect, place, to_ppose, Boxed, Obb, Placed, CONTACT_TOLERANCE};
+use super::shapes::{aabb_of, ball_meets_box, place, to_ppose, Boxed, Placed};
 use super::OPEN_POSTURE as OPEN;
 use super::{Blocker, Check, Held, ObjectSet, World};
 use crate::resolve::{ObjectId, RobotId};
@@ -69,171 +62,6 @@ impl CheckCtx {
     pub(super) fn not_there(&self, o: ObjectId) -> bool {
         self.absent.contains(o) || self.held.as_ref().is_some_and(|h| h.object == o)
     }
-}
-
-/// True when the shapes overlap deeper than the tolerance.
-#[cfg(test)]
-fn collide(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
-    collide_from(p1, s1, p2, s2, &mut no_start())
-}
-
-/// No separating direction known (see [`collide_from`]): GJK starts where parry's would.
-#[inline]
-fn no_start() -> PVec {
-    PVec::ZERO
-}
-
-/// [`collide`], GJK started along `dir` (in `s1`'s frame) unless it is zero, and `dir`
-/// left at the separating direction GJK ends with when the shapes are apart. A planner's
-/// checks along a motion ask of each pair nearly the same question again, and the last
-/// separating direction usually separates again at once. The verdict does not depend on
-/// where GJK starts: apart means a separating plane was found; an overlap it finds is
-/// proved deep by its simplex or measured by EPA, and one within GJK's tolerance of
-/// touching, whichever GJK says of it, is not deeper than the contact tolerance.
-#[inline]
-fn collide_from(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, dir: &mut PVec) -> bool {
-    let meet = match gjk_meet(p1, s1, p2, s2, dir) {
-        Some(m) => m,
-        None => match query::intersection_test(p1, s1, p2, s2) {
-            Ok(i) if !i.intersecting => Meet::Apart,
-            _ => Meet::Overlap,
-        },
-    };
-    match meet {
-        Meet::Apart => false,
-        Meet::Deep => true,
-        Meet::Overlap if surely_deeper(p1, s1, p2, s2) => true,
-        Meet::Overlap => match query::contact(p1, s1, p2, s2, 0.0) {
-            Ok(Some(c)) if c.dist < -CONTACT_TOLERANCE => true,
-            // EPA says shallower than the tolerance: proved when moving the second shape
-            // that far along EPA's normal parts them. EPA can fall short (a hull 2.4 mm
-            // into a thin box, read as 0.7 mm): unproved is a contact.
-            Ok(Some(c)) => !parted_by(p1, s1, p2, s2, c.normal1 * CONTACT_TOLERANCE),
-            Ok(None) => false,
-            // No depth query for this pair: trust the intersection test.
-            Err(_) => true,
-        },
-    }
-}
-
-/// Whether the shapes are apart once the second is moved by `shift`: then no more than
-/// `|shift|` separates them where they stand.
-fn parted_by(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, shift: PVec) -> bool {
-    let moved = PPose::from_parts(p2.translation + shift, p2.rotation);
-    query::intersection_test(p1, s1, &moved, s2).is_ok_and(|i| !i.intersecting)
-}
-
-/// What an intersection test found.
-enum Meet {
-    Apart,
-    /// Overlapping by more than the contact tolerance.
-    Deep,
-    /// Overlapping, by how much unknown.
-    Overlap,
-}
-
-/// parry's own intersection test of two convex shapes it tests with GJK (neither a ball,
-/// not two boxes, no triangle: the pairs its dispatcher sends there), keeping GJK's last
-/// simplex: `None` for other pairs. Four points of the shapes' Minkowski difference
-/// enclosing the origin span a tetrahedron inside it; when the origin lies [`DEEP`]
-/// inside each of its faces, no move shorter than that separates the shapes, and the
-/// overlap is deeper than the tolerance without EPA (most overlaps of a mesh arm's
-/// self-collision samples are centimetres deep).
-fn gjk_meet(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape, dir: &mut PVec) -> Option<Meet> {
-    let other = |s: &dyn Shape| s.as_ball().is_some() || s.as_triangle().is_some();
-    if other(s1) || other(s2) || (s1.as_cuboid().is_some() && s2.as_cuboid().is_some()) {
-        return None;
-    }
-    let (g1, g2) = (s1.as_support_map()?, s2.as_support_map()?);
-    let mut simplex = VoronoiSimplex::new();
-    let pos12 = p1.inv_mul(p2);
-    let start = (*dir != PVec::ZERO).then_some(*dir);
-    let (hit, apart) =
-        query::details::intersection_test_support_map_support_map_with_params(&pos12, g1, g2, &mut simplex, start);
-    if !hit {
-        *dir = apart;
-    }
-    Some(match hit {
-        false => Meet::Apart,
-        true if origin_deep_in(&simplex, DEEP) => Meet::Deep,
-        true => Meet::Overlap,
-    })
-}
-
-/// Whether `simplex` is a tetrahedron with the origin at least `depth` inside each face.
-fn origin_deep_in(simplex: &VoronoiSimplex, depth: f64) -> bool {
-    if simplex.dimension() != 3 {
-        return false;
-    }
-    let p: [PVec; 4] = std::array::from_fn(|i| simplex.point(i).point);
-    [(0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0)].into_iter().all(|(i, j, k, l)| {
-        let n = (p[j] - p[i]).cross(p[k] - p[i]);
-        let len = n.length();
-        // The face's normal turned away from the fourth point; the origin's depth
-        // behind the face is the plane's offset along it.
-        let side = n.dot(p[l] - p[i]);
-        len > 0.0 && side != 0.0 && -side.signum() * n.dot(p[i]) / len >= depth
-    })
-}
-
-/// Twice [`CONTACT_TOLERANCE`]: how far inside a box [`surely_deeper`] looks.
-const DEEP: f64 = 2.0 * CONTACT_TOLERANCE;
-
-/// Whether two shapes overlap deeper than the tolerance, where one intersection test can
-/// prove it: one is a box, the other convex and meeting the box shrunk by [`DEEP`]. A
-/// point that deep in the box stays in it however the two are moved apart by less than
-/// that, so their penetration depth is at least [`DEEP`]. `false` when not proved (the
-/// caller then measures the depth); most planner samples in a cage of bars are deep in one,
-/// and this spares EPA.
-fn surely_deeper(p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape) -> bool {
-    let shrunk = |s: &dyn Shape| {
-        let c = s.as_cuboid()?;
-        (c.half_extents.min_element() > DEEP).then(|| Cuboid::new(c.half_extents - PVec::splat(DEEP)))
-    };
-    let meets = |p1: &PPose, s1: &dyn Shape, p2: &PPose, s2: &dyn Shape| {
-        query::intersection_test(p1, s1, p2, s2).is_ok_and(|i| i.intersecting)
-    };
-    match (shrunk(s2), s1.as_support_map().is_some(), shrunk(s1), s2.as_support_map().is_some()) {
-        (Some(b), true, _, _) => meets(p1, s1, p2, &b),
-        (_, _, Some(a), true) => meets(p1, &a, p2, s2),
-        _ => false,
-    }
-}
-
-/// Collision of a moving shape (robot or carried) with another: by its eroded
-/// primitive when it has one (one intersection test), else by contact depth. `balls`:
-/// whether to try the balls inside the moving shape first against a box (`false` for
-/// the plain check); `proved` counts the contacts they proved.
-#[inline]
-fn collide_moving(
-    (p1, moving, balls): (&PPose, &Placed, bool),
-    (p2, s2, obb2): (&PPose, &dyn Shape, &Obb),
-    dir: &mut PVec,
-    proved: &Cell<u64>,
-) -> bool {
-    if !moving.eroded_obb.as_ref().unwrap_or(&moving.obb).may_touch(p1, obb2, p2) {
-        return false;
-    }
-    if balls && obb2.exact && inner_ball_meets(p1, moving.inner(), &obb2.placed(p2), obb2.cuboid.half_extents) {
-        proved.set(proved.get() + 1);
-        return true;
-    }
-    match &moving.eroded {
-        Some(e) => match (e.as_cuboid(), s2.as_cuboid()) {
-            (Some(c1), Some(c2)) => boxes_intersect(c1.half_extents, c2.half_extents, &p1.inv_mul(p2)),
-            _ => query::intersection_test(p1, &*e.0, p2, s2).map_or(true, |i| i.intersecting),
-        },
-        None => collide_from(p1, &*moving.shape.0, p2, s2, dir),
-    }
-}
-
-/// Whether one of `inner` (balls inside a shape, in its frame at `p1`), eroded by the
-/// contact tolerance, meets the box of half extents `he` at `p2`: a contact deeper than
-/// the tolerance. Unsure (within parry's margin of touching) is not a proof, nor is a
-/// ball no larger than the tolerance.
-#[inline]
-fn inner_ball_meets(p1: &PPose, inner: &[Ball], p2: &PPose, he: PVec) -> bool {
-    inner.iter().any(|&(c, r)| ball_meets_box(*p1 * c, r - CONTACT_TOLERANCE, p2, he) == Some(true))
 }
 
 /// Per-thread buffers, so a check allocates nothing once warm.
@@ -360,7 +188,7 @@ pub(crate) fn check(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx) -> Check {
     check_parts(w, r, q, ctx, true)
 }
 
-fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: bool) -> Check {
+pub(super) fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robot_part: bool) -> Check {
     let m = &w.robots[r.index()];
     if let Some(blocked) = count_within_limits(m, q, ctx) {
         return blocked;
@@ -607,143 +435,6 @@ pub(super) fn bodies_collide(m: &RobotModel, s: &mut Scratch, a: usize, b: usize
                 }
         })
     })
-}
-
-/// The planner's coarse segment check: the samples of `check_motion(.., 1, ..)`,
-/// visited coarse-to-fine (ends, middle, quarters, ...) so a blocked segment, the
-/// common case for long roadmap edges, is found after a few samples. The labels are
-/// the same in any order; only which blocker is reported may differ.
-pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, (false, false)))
-}
-
-/// [`check_segment`] without the samples of its ends flagged in `known` (`a`, `b`),
-/// whose checks the caller already has: their labels are the caller's to join.
-pub(crate) fn check_segment_known(
-    w: &World,
-    r: RobotId,
-    (a, b): (&[f64], &[f64]),
-    step: f64,
-    known: (bool, bool),
-    ctx: &CheckCtx,
-) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, known))
-}
-
-/// The samples of [`check_segment`], checking only the carried object (see
-/// [`check_posed`]).
-pub(crate) fn check_segment_held(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (false, (false, false)))
-}
-
-/// The samples of `check_motion(.., step, parts, ..)` that [`check_segment`] at `step`
-/// does not take (every `parts`-th is one of its: the same fractions of the segment,
-/// hence the same configurations), coarse to fine. After a coarse check of the same
-/// segment and context found labels `l` and no block, `l` joined with this one's labels
-/// is `check_motion`'s answer, without checking the coarse samples twice.
-pub(crate) fn check_motion_rest(
-    w: &World,
-    r: RobotId,
-    a: &[f64],
-    b: &[f64],
-    (step, parts): (f64, usize),
-    ctx: &CheckCtx,
-) -> Check {
-    segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, (true, (false, false)))
-}
-
-/// Sample `i` of `steps(a, b, step, parts) + 1` is skipped when `parts > 1` and `i` is a
-/// multiple of `parts` (see [`check_motion_rest`]), and sample 0 or `n` (`a` or `b`) when
-/// flagged in `known` (see [`check_segment_known`]).
-fn segment_coarse_to_fine(
-    w: &World,
-    r: RobotId,
-    a: &[f64],
-    b: &[f64],
-    (step, parts): (f64, usize),
-    ctx: &CheckCtx,
-    (robot_part, (known_a, known_b)): (bool, (bool, bool)),
-) -> Check {
-    let m = &w.robots[r.index()];
-    assert_dof(m, a);
-    assert_dof(m, b);
-    let n = steps(a, b, step, parts);
-    let mut q = a.to_vec();
-    let mut out = ObjectSet::new();
-    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
-    let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
-    let mut stride = top;
-    while stride > 0 {
-        // Multiples of `stride` not already visited as multiples of `2 * stride`.
-        let first = if stride == top { 0 } else { stride };
-        let by = if stride == top { stride } else { 2 * stride };
-        for i in (first..=n).step_by(by) {
-            if (parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n) {
-                continue;
-            }
-            sample(a, b, i, n, &mut q);
-            match check_parts(w, r, &q, ctx, robot_part) {
-                Check::Blocked(bl) => return Check::Blocked(bl),
-                Check::Touches(l) => out.union_with(&l),
-            }
-        }
-        stride /= 2;
-    }
-    Check::Touches(out)
-}
-
-/// Samples of a segment with steps of at most `step`, each cut into `parts`.
-pub(crate) fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
-    let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
-    // Saturating: a NaN or infinite span must not overflow (the limits check blocks it).
-    (if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 }).saturating_mul(parts.max(1))
-}
-
-/// Sample `i` of `n` on a -> b; the last is `b` exactly. Interpolated from whichever end
-/// comes first in a fixed order (see [`from_a`]), so that sample `i` of a -> b and sample
-/// `n - i` of b -> a are the same configuration to the bit: a segment's labels do not
-/// depend on the way it was walked, and a check of one way can complete a check of the other.
-#[inline]
-pub(crate) fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
-    let (from, to, k) = if from_a(a, b) { (a, b, i) } else { (b, a, n - i) };
-    let t = k as f64 / n as f64;
-    for (j, v) in q.iter_mut().enumerate() {
-        *v = if k == n { to[j] } else { from[j] + (to[j] - from[j]) * t };
-    }
-}
-
-/// Whether `a` is first of the two (by the first joint where they differ, in
-/// `f64::total_cmp`'s order; `a` when they are equal).
-#[inline]
-fn from_a(a: &[f64], b: &[f64]) -> bool {
-    a.iter().zip(b).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()) != Some(std::cmp::Ordering::Greater)
-}
-
-/// Steps of at most `step`, each cut into `parts`: the samples include those of
-/// `parts = 1`, so the labels found can only grow with `parts`.
-pub(crate) fn check_motion(
-    w: &World,
-    r: RobotId,
-    a: &[f64],
-    b: &[f64],
-    step: f64,
-    parts: usize,
-    ctx: &CheckCtx,
-) -> Check {
-    let m = &w.robots[r.index()];
-    assert_dof(m, a);
-    assert_dof(m, b);
-    let n = steps(a, b, step, parts);
-    let mut q = a.to_vec();
-    let mut out = ObjectSet::new();
-    for i in 0..=n {
-        sample(a, b, i, n, &mut q);
-        match check(w, r, &q, ctx) {
-            Check::Blocked(bl) => return Check::Blocked(bl),
-            Check::Touches(l) => out.union_with(&l),
-        }
-    }
-    Check::Touches(out)
 }
 
 /// A one-line account of a block, for error messages.

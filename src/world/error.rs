@@ -95,7 +95,7 @@ pub enum WorldError {
         tried: String,
         #[label("loading this file")]
         span: Span,
-        /// Where such a URI is looked for (see [`mesh_missing_help`]).
+        /// Where such a URI is looked for (see `mesh_missing_help`).
         #[help]
         help: String,
     },

@@ -19,8 +19,8 @@ const JUMP: f64 = 0.5;
 impl World {
     /// Configurations from `q` on (`q` left out) moving the TCP in a straight line
     /// towards the robot's base, level (along the floor's plane), its orientation kept,
-    /// [`ESCAPE_LENGTH`] in steps of 2 cm: each step solved by the IK started at the last.
-    /// The line stops short where the IK does not converge or jumps (see [`JUMP`]), and is
+    /// `ESCAPE_LENGTH` (30 cm) in steps of 2 cm: each step solved by the IK started at the last.
+    /// The line stops short where the IK does not converge or jumps (see `JUMP`), and is
     /// empty when the TCP stands over the base. Unchecked: the caller checks each move.
     ///
     /// Panics if `q.len()` is not [`World::dof`].

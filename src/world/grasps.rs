@@ -6,7 +6,7 @@
 use nalgebra::{Translation3, UnitQuaternion};
 use serde::Serialize;
 
-use super::{check, ik, Check, CheckCtx, GraspConfig, ObjectSet, World, CERTIFY_PARTS};
+use super::{check, ik, segment, Check, CheckCtx, GraspConfig, ObjectSet, World, CERTIFY_PARTS};
 use crate::resolve::{Grasp, ObjectId, Pose, RobotId};
 
 /// How far the TCP may stray from the approach line on the final move in, where the
@@ -50,14 +50,14 @@ pub(crate) fn approach_deviation(
     b: &[f64],
     resolution: f64,
 ) -> ApproachDeviation {
-    let n = check::steps(a, b, resolution, CERTIFY_PARTS);
+    let n = segment::steps(a, b, resolution, CERTIFY_PARTS);
     let to_grasp = grasp.pose_world_tcp.inverse();
     let mut q = a.to_vec();
     let mut d = ApproachDeviation::default();
     // f64::max drops NaN; a NaN sample must make the move crooked, not straight.
     let worst = |acc: f64, v: f64| if v.is_nan() || acc.is_nan() { f64::NAN } else { acc.max(v) };
     for i in 0..=n {
-        check::sample(a, b, i, n, &mut q);
+        segment::sample(a, b, i, n, &mut q);
         // The TCP in the grasp frame: the approach runs from z = -approach to z = 0.
         let rel = to_grasp * w.fk_tcp(r, &q);
         let p = rel.translation.vector;

@@ -1,6 +1,6 @@
 //! World: a resolved [`Scenario`] turned into something the planner can query fast.
 //!
-//! In: a `Scenario` and a [`Loader`]. Out: a [`World`] holding each robot's kinematic
+//! In: a `Scenario` and a [`Loader`](crate::diag::Loader). Out: a [`World`] holding each robot's kinematic
 //! chain (from its URDF), the hand attached at the flange, fixed and removable bodies
 //! as parry3d shapes, and the labelled collision check PRMwO needs: "at this
 //! configuration, is the robot blocked by something fixed, and which removable
@@ -25,10 +25,12 @@ mod ik;
 mod labels;
 mod load;
 mod lower_bound;
+mod narrow;
 mod pair_grid;
 mod proximity;
 mod robot;
 mod scene;
+mod segment;
 mod self_pairs;
 mod shapes;
 mod srdf;
@@ -235,7 +237,7 @@ impl World {
     /// `step` between checked configurations, both ends included: the union of the
     /// labels, or the first block. Panics if `a` or `b` is not [`World::dof`] long.
     pub fn check_segment(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-        check::check_segment(self, r, a, b, step, ctx)
+        segment::check_segment(self, r, a, b, step, ctx)
     }
     /// [`World::check_segment`] without the ends flagged in `known` (`a`, `b`), whose
     /// checks in `ctx` the caller has: joined with their labels (neither blocked), the
@@ -248,27 +250,27 @@ impl World {
         known: (bool, bool),
         ctx: &CheckCtx,
     ) -> Check {
-        check::check_segment_known(self, r, ends, step, known, ctx)
+        segment::check_segment_known(self, r, ends, step, known, ctx)
     }
     /// What the carried object (`ctx.held`) adds to [`World::check_segment`] on the same
     /// samples: the robot's own bodies are not checked. The full label is this one's
     /// union with the empty-hand label of the segment, less the carried object.
     pub fn check_segment_held(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
-        check::check_segment_held(self, r, a, b, step, ctx)
+        segment::check_segment_held(self, r, a, b, step, ctx)
     }
     /// The check that certifies a motion, for the verifier and the planner alike: the
     /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every
     /// sample of the coarse check is among them. Panics if `a` or `b` is not
     /// [`World::dof`] long.
     pub fn check_motion(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
-        check::check_motion(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
+        segment::check_motion(self, r, a, b, resolution, CERTIFY_PARTS, ctx)
     }
     /// The samples of [`World::check_motion`] that [`World::check_segment`] at the same
     /// `resolution` does not take, coarse to fine: once that coarse check of the segment
     /// (same context) found labels `l` and no block, `l` joined with these labels is
     /// `check_motion`'s answer (a block may be found at another sample than its first).
     pub fn check_motion_rest(&self, r: RobotId, a: &[f64], b: &[f64], resolution: f64, ctx: &CheckCtx) -> Check {
-        check::check_motion_rest(self, r, a, b, (resolution, CERTIFY_PARTS), ctx)
+        segment::check_motion_rest(self, r, a, b, (resolution, CERTIFY_PARTS), ctx)
     }
 }
 

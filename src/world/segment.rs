@@ -1,0 +1,177 @@
+//! The segment checks: the configurations a straight joint-space motion is checked at,
+//! and the order they are visited in (coarse to fine for the planner, every one in order
+//! for the certifying check), each by the labelled check of [`super::check`].
+
+use super::check::{check, check_parts, CheckCtx};
+use super::robot::assert_dof;
+use super::{Check, ObjectSet, World};
+use crate::resolve::RobotId;
+
+/// The planner's coarse segment check: the samples of `check_motion(.., 1, ..)`,
+/// visited coarse-to-fine (ends, middle, quarters, ...) so a blocked segment, the
+/// common case for long roadmap edges, is found after a few samples. The labels are
+/// the same in any order; only which blocker is reported may differ.
+pub(crate) fn check_segment(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, (false, false)))
+}
+
+/// [`check_segment`] without the samples of its ends flagged in `known` (`a`, `b`),
+/// whose checks the caller already has: their labels are the caller's to join.
+pub(crate) fn check_segment_known(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    step: f64,
+    known: (bool, bool),
+    ctx: &CheckCtx,
+) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (true, known))
+}
+
+/// The samples of [`check_segment`], checking only the carried object (see
+/// [`check_posed`]).
+pub(crate) fn check_segment_held(w: &World, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, 1), ctx, (false, (false, false)))
+}
+
+/// The samples of `check_motion(.., step, parts, ..)` that [`check_segment`] at `step`
+/// does not take (every `parts`-th is one of its: the same fractions of the segment,
+/// hence the same configurations), coarse to fine. After a coarse check of the same
+/// segment and context found labels `l` and no block, `l` joined with this one's labels
+/// is `check_motion`'s answer, without checking the coarse samples twice.
+pub(crate) fn check_motion_rest(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    (step, parts): (f64, usize),
+    ctx: &CheckCtx,
+) -> Check {
+    segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, (true, (false, false)))
+}
+
+/// Sample `i` of `steps(a, b, step, parts) + 1` is skipped when `parts > 1` and `i` is a
+/// multiple of `parts` (see [`check_motion_rest`]), and sample 0 or `n` (`a` or `b`) when
+/// flagged in `known` (see [`check_segment_known`]).
+fn segment_coarse_to_fine(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    (step, parts): (f64, usize),
+    ctx: &CheckCtx,
+    (robot_part, (known_a, known_b)): (bool, (bool, bool)),
+) -> Check {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let n = steps(a, b, step, parts);
+    let mut q = a.to_vec();
+    let mut out = ObjectSet::new();
+    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
+    let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
+    let mut stride = top;
+    while stride > 0 {
+        // Multiples of `stride` not already visited as multiples of `2 * stride`.
+        let first = if stride == top { 0 } else { stride };
+        let by = if stride == top { stride } else { 2 * stride };
+        for i in (first..=n).step_by(by) {
+            if (parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n) {
+                continue;
+            }
+            sample(a, b, i, n, &mut q);
+            match check_parts(w, r, &q, ctx, robot_part) {
+                Check::Blocked(bl) => return Check::Blocked(bl),
+                Check::Touches(l) => out.union_with(&l),
+            }
+        }
+        stride /= 2;
+    }
+    Check::Touches(out)
+}
+
+/// Samples of a segment with steps of at most `step`, each cut into `parts`.
+pub(crate) fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
+    let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
+    // Saturating: a NaN or infinite span must not overflow (the limits check blocks it).
+    (if step > 0.0 { (span / step).ceil().max(1.0) as usize } else { 1 }).saturating_mul(parts.max(1))
+}
+
+/// Sample `i` of `n` on a -> b; the last is `b` exactly. Interpolated from whichever end
+/// comes first in a fixed order (see [`from_a`]), so that sample `i` of a -> b and sample
+/// `n - i` of b -> a are the same configuration to the bit: a segment's labels do not
+/// depend on the way it was walked, and a check of one way can complete a check of the other.
+#[inline]
+pub(crate) fn sample(a: &[f64], b: &[f64], i: usize, n: usize, q: &mut [f64]) {
+    let (from, to, k) = if from_a(a, b) { (a, b, i) } else { (b, a, n - i) };
+    let t = k as f64 / n as f64;
+    for (j, v) in q.iter_mut().enumerate() {
+        *v = if k == n { to[j] } else { from[j] + (to[j] - from[j]) * t };
+    }
+}
+
+/// Whether `a` is first of the two (by the first joint where they differ, in
+/// `f64::total_cmp`'s order; `a` when they are equal).
+#[inline]
+fn from_a(a: &[f64], b: &[f64]) -> bool {
+    a.iter().zip(b).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()) != Some(std::cmp::Ordering::Greater)
+}
+
+/// Steps of at most `step`, each cut into `parts`: the samples include those of
+/// `parts = 1`, so the labels found can only grow with `parts`.
+pub(crate) fn check_motion(
+    w: &World,
+    r: RobotId,
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+    parts: usize,
+    ctx: &CheckCtx,
+) -> Check {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let n = steps(a, b, step, parts);
+    let mut q = a.to_vec();
+    let mut out = ObjectSet::new();
+    for i in 0..=n {
+        sample(a, b, i, n, &mut q);
+        match check(w, r, &q, ctx) {
+            Check::Blocked(bl) => return Check::Blocked(bl),
+            Check::Touches(l) => out.union_with(&l),
+        }
+    }
+    Check::Touches(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+        /// Sample `i` of a -> b is sample `n - i` of b -> a, to the bit, ends included (the
+        /// certification of an edge walked one way completes a coarse check walked the other).
+        #[test]
+        fn a_segment_and_its_reverse_take_the_same_samples(
+            a in proptest::collection::vec(-1e3f64..1e3, 1..8),
+            d in proptest::collection::vec(-4.0f64..4.0, 8),
+            tie in 0usize..8,
+            n in 1usize..300,
+        ) {
+            // Ends that agree on their first joints, so the order looks past them.
+            let b: Vec<f64> = a.iter().zip(&d).enumerate().map(|(k, (x, y))| if k < tie { *x } else { x + y }).collect();
+            let (mut p, mut q) = (vec![0.0; a.len()], vec![0.0; a.len()]);
+            for i in 0..=n {
+                sample(&a, &b, i, n, &mut p);
+                sample(&b, &a, n - i, n, &mut q);
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                proptest::prop_assert_eq!(bits(&p), bits(&q), "sample {} of {}", i, n);
+            }
+            sample(&a, &b, 0, n, &mut p);
+            proptest::prop_assert_eq!(&p, &a);
+            sample(&a, &b, n, n, &mut p);
+            proptest::prop_assert_eq!(&p, &b);
+        }
+    }
+}
