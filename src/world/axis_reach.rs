@@ -43,12 +43,21 @@ pub struct AxisReach<'w> {
     /// link's frame, radius).
     spheres: Vec<(usize, Point3<f64>, f64)>,
     driven: Vec<Driven>,
+    /// Per shape, its body; per body, per joint value: whether the joint moves it.
+    shape_body: Vec<usize>,
+    moves: Vec<Vec<bool>>,
+    /// Per joint value: whether it slides a link (its reach is then not about an axis).
+    slides: Vec<bool>,
     /// How far from the flange origin a carried point can be.
     held_radius: f64,
 }
 
 /// Per driven link: the farthest point it turns from its axis (metres), at one configuration.
 pub type Farthest = Vec<f64>;
+
+/// Per driven link and body: the same of the body's own points (see
+/// [`AxisReach::bodies_farthest`]).
+pub type BodiesFarthest = Vec<f64>;
 
 /// Reused room for [`AxisReach::farthest`]: link poses and the balls' centres.
 #[derive(Default)]
@@ -93,7 +102,7 @@ impl<'w> AxisReach<'w> {
             }
             false
         };
-        let driven = chain
+        let driven: Vec<Driven> = chain
             .links
             .iter()
             .enumerate()
@@ -123,7 +132,23 @@ impl<'w> AxisReach<'w> {
                 })
             })
             .collect();
-        AxisReach { model: m, spheres, driven, held_radius }
+        let shape_body = m.shapes.iter().map(|s| s.body).collect();
+        let moves = m
+            .bodies
+            .iter()
+            .map(|b| {
+                let mut mask = vec![false; chain.dof()];
+                for d in driven.iter().filter(|d| under(b.link, d.link)) {
+                    mask[d.index] = true;
+                }
+                mask
+            })
+            .collect();
+        let mut slides = vec![false; chain.dof()];
+        for d in driven.iter().filter(|d| d.axis.is_none()) {
+            slides[d.index] = true;
+        }
+        AxisReach { model: m, spheres, driven, shape_body, moves, slides, held_radius }
     }
 
     /// Per driven link, the farthest point it turns from its axis at `q` (a sliding
@@ -155,6 +180,77 @@ impl<'w> AxisReach<'w> {
                 far = far.max(from_axis(links[chain.flange].translation.vector) + self.held_radius);
             }
             out.push(far);
+        }
+    }
+
+    /// Per driven link and body (`link * bodies + body`), the farthest point of the body it
+    /// turns from its axis at `q` (metres); `-inf` where it does not turn the body (and for
+    /// a sliding joint).
+    pub fn bodies_farthest(&self, q: &[f64], scratch: &mut ReachScratch, out: &mut BodiesFarthest) {
+        let chain = &self.model.chain;
+        super::robot::assert_dof(self.model, q);
+        let ReachScratch { links, centres } = scratch;
+        links.clear();
+        links.resize(chain.links.len(), Isometry3::identity());
+        chain.fk_into(q, links);
+        centres.clear();
+        centres.extend(self.spheres.iter().map(|(l, c, _)| (links[*l] * c).coords));
+        let bodies = self.moves.len();
+        out.clear();
+        out.resize(self.driven.len() * bodies, f64::NEG_INFINITY);
+        for (k, d) in self.driven.iter().enumerate() {
+            let Some(axis) = d.axis else { continue };
+            let o = links[d.link].translation.vector;
+            let a = links[d.link].rotation * axis.into_inner();
+            let far = &mut out[k * bodies..(k + 1) * bodies];
+            for &s in &d.shapes {
+                let b = self.shape_body[s];
+                far[b] = far[b].max((centres[s] - o).cross(&a).norm() + self.spheres[s].2);
+            }
+        }
+    }
+
+    /// Per body, per joint value: how fast the joint can move the body's own points per
+    /// unit of its speed at every instant of a motion from a configuration whose
+    /// [`AxisReach::bodies_farthest`] is `at_a` to one whose is `at_b`, each joint value
+    /// `i` turning by at most `turn[i]` (radians; metres for a slide) on the way. A point's
+    /// distance from an axis changes only by the joints between the axis and the body
+    /// (the joints above it move the axis with the body), each by the body's static reach
+    /// for it times its turn: at any instant it is at most the distance at either end plus
+    /// that drift from there, the lesser of which is at most their mean. Never above
+    /// `own`, the body's static reach ([`World::body_reach`]), which a sliding joint keeps.
+    pub fn bodies_over(
+        &self,
+        (at_a, at_b): (&BodiesFarthest, &BodiesFarthest),
+        turn: &[f64],
+        own: &[Vec<f64>],
+        out: &mut Vec<Vec<f64>>,
+    ) {
+        let bodies = self.moves.len();
+        out.resize_with(own.len(), Vec::new);
+        for (o, own) in out.iter_mut().zip(own) {
+            o.clear();
+            o.resize(own.len(), 0.0);
+        }
+        for (k, d) in self.driven.iter().enumerate().filter(|(_, d)| d.axis.is_some()) {
+            let (far_a, far_b) = (&at_a[k * bodies..(k + 1) * bodies], &at_b[k * bodies..(k + 1) * bodies]);
+            for (b, (fa, fb)) in far_a.iter().zip(far_b).enumerate().filter(|(_, (fa, _))| fa.is_finite()) {
+                let drift: f64 = d
+                    .below
+                    .iter()
+                    .zip(&self.moves[b])
+                    .zip(turn)
+                    .zip(&own[b])
+                    .filter(|(((below, moves), _), _)| **below && **moves)
+                    .map(|((_, t), o)| o * t)
+                    .sum();
+                out[b][d.index] += d.mult * 0.5 * (fa + fb + drift);
+            }
+        }
+        for (o, own) in out.iter_mut().zip(own) {
+            for ((o, own), slides) in o.iter_mut().zip(own).zip(&self.slides) {
+                *o = if *slides { *own } else { o.min(*own) };
+            }
         }
     }
 

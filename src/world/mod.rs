@@ -39,7 +39,7 @@ mod sweep;
 mod test_arms;
 mod urdf;
 
-pub use axis_reach::{AxisReach, Farthest, ReachScratch};
+pub use axis_reach::{AxisReach, BodiesFarthest, Farthest, ReachScratch};
 pub use build::{build, load_kinematics, overlaps, target_collides, RobotKinematics, WorldOptions};
 pub use check::CheckCtx;
 pub use drawing::{Drawable, DrawnBody, DrawnShape};

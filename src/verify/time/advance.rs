@@ -18,7 +18,8 @@ mod pairs;
 use super::scene::{depth_slack, Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
 use crate::world::{
-    aabb_gap, distance_at_least_from, in_closed_form, turned_boxes_gap, GjkStart, ObjectSet, LOWER_BOUND_TOLERANCE,
+    aabb_gap, distance_at_least_from, in_closed_form, turned_boxes_gap, BodiesFarthest, GjkStart, ObjectSet,
+    ReachScratch, LOWER_BOUND_TOLERANCE,
 };
 
 /// Who holds what, with which fingers, and which object each may touch; how many objects
@@ -50,8 +51,10 @@ enum Movers {
     /// The robot's joints, each rate scaled by a weight: one body against the scene, each
     /// joint weighted by the body's own reach over the reach its rate was taken with; two
     /// of its own bodies, each joint that moves one and not the other weighted so by that
-    /// body's (0 for the others).
-    Weighted(usize, Vec<f64>),
+    /// body's (0 for the others). `moved[j]`: the body joint `j` is weighted by, if any.
+    /// The body's reach is taken where it stands at each part of a stretch (see
+    /// [`Memory::start_stretch`]), so the weights change with the parts.
+    Weighted { robot: usize, moved: Vec<Option<usize>>, weights: Vec<f64> },
     /// Every joint of both robots.
     Robots(usize, usize),
 }
@@ -59,7 +62,7 @@ enum Movers {
 impl Movers {
     fn robots(&self) -> [usize; 2] {
         match *self {
-            Movers::Robot(r) | Movers::Apart(r, _) | Movers::Weighted(r, _) => [r, r],
+            Movers::Robot(r) | Movers::Apart(r, _) | Movers::Weighted { robot: r, .. } => [r, r],
             Movers::Robots(a, b) => [a, b],
         }
     }
@@ -92,13 +95,27 @@ pub(super) struct Memory {
     speed: Vec<f64>,
     /// The robots of movers that have pairs and stand still on this stretch.
     standing: Vec<usize>,
-    /// When the stretch (or the pairs) began, and each movers' odometer then: on one
-    /// stretch an odometer grows at its movers' speed, so an expiry is also a time.
+    /// When the stretch's part (or the pairs) began, and each movers' odometer then: on
+    /// one part an odometer grows at its movers' speed, so an expiry is also a time.
     t0: f64,
     odo0: Vec<f64>,
-    /// This instant's joint odometers, and per movers their odometer, taken when first
-    /// asked for at this instant (`odo_at` holds the instant's number).
+    /// The end of the stretch the part's rates and weights hold to.
+    until: f64,
+    /// The joint odometers when the part began; this instant's less those (a movers'
+    /// odometer is its odometer then plus its weighted sum of these: its weights change
+    /// from part to part, each holding from its part's first instant on).
+    joint_odo0: Vec<Vec<f64>>,
     joint_odo: Vec<Vec<f64>>,
+    /// Per robot, per body, per joint: the body's reach from where it stood at the part's
+    /// first instant to the stretch's end; how far its bodies are from its axes there and
+    /// at the stretch's end (with the end's time); room to find them.
+    local: Vec<Vec<Vec<f64>>>,
+    far_here: BodiesFarthest,
+    far_end: Vec<(f64, BodiesFarthest)>,
+    turn: Vec<f64>,
+    reach_scratch: ReachScratch,
+    /// Per movers their odometer, taken when first asked for at this instant (`odo_at`
+    /// holds the instant's number).
     odometer: Vec<f64>,
     odo_at: Vec<u64>,
     instant: u64,
@@ -133,6 +150,17 @@ pub(super) struct Memory {
     /// Per robot, per joint: the reach its rates are taken with (`rates[r][j]` is this
     /// times the joint's speed), so that a pair of its bodies can weigh them by their own.
     pub reach: Vec<Vec<f64>>,
+}
+
+/// What a part of a stretch gives the proofs (see [`Cell::free_time`]): per robot, per
+/// joint, how fast it moves any point from now to the stretch's end and how far it has
+/// moved one since the start; the stretch's end, and where each robot stands then.
+#[derive(Clone, Copy)]
+pub(super) struct Motion<'a> {
+    pub rates: &'a [Vec<f64>],
+    pub odometers: &'a [Vec<f64>],
+    pub until: f64,
+    pub ends: &'a [Vec<f64>],
 }
 
 /// A queued pair: the time its bound runs out, a little early, index and stamp, packed
@@ -197,7 +225,9 @@ fn movers_sum(m: &Movers, v: &[Vec<f64>]) -> f64 {
             let v = v.get(*r).map_or(&[][..], Vec::as_slice);
             mask.iter().zip(v).filter(|(m, _)| **m).map(|(_, v)| v).sum::<f64>()
         }
-        Movers::Weighted(r, w) => v.get(*r).map_or(0.0, |v| v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>()),
+        Movers::Weighted { robot, weights, .. } => {
+            v.get(*robot).map_or(0.0, |v| v.iter().zip(weights).map(|(v, w)| v * w).sum::<f64>())
+        }
         Movers::Robots(a, b) => total(*a) + total(*b),
     }
 }
@@ -207,21 +237,47 @@ impl Memory {
     fn odometer(&mut self, g: usize) -> f64 {
         if self.odo_at[g] != self.instant {
             self.odo_at[g] = self.instant;
-            self.odometer[g] = movers_sum(&self.movers[g], &self.joint_odo);
+            self.odometer[g] = self.odo0[g] + movers_sum(&self.movers[g], &self.joint_odo);
         }
         self.odometer[g]
     }
 
-    /// A new stretch (or new pairs): each movers' speed, and the odometers the queue's
-    /// times count from.
-    fn start_stretch(&mut self, t: f64, rates: &[Vec<f64>]) {
+    /// A new part of a stretch (or new pairs), from this instant to `until`: each movers'
+    /// odometer now, by the weights it had (new pairs start from 0), then its weights by
+    /// its bodies' reach where they stand (`local`), its speed, and the odometers the
+    /// queue's times count from.
+    fn start_stretch(&mut self, t: f64, until: f64, rates: &[Vec<f64>], listed: bool) {
+        self.odo0.resize(self.movers.len(), 0.0);
+        for g in 0..self.movers.len() {
+            self.odo0[g] = if listed { 0.0 } else { self.odometer(g) };
+        }
+        // The joint odometers count from here.
+        for (then, now) in self.joint_odo0.iter_mut().zip(self.joint_odo.iter_mut()) {
+            for (then, now) in then.iter_mut().zip(now.iter_mut()) {
+                *then += *now;
+                *now = 0.0;
+            }
+        }
+        for m in &mut self.movers {
+            if let Movers::Weighted { robot, moved, weights } = m {
+                let (local, reach) = (&self.local[*robot], self.reach.get(*robot));
+                for (j, (w, b)) in weights.iter_mut().zip(moved.iter()).enumerate() {
+                    *w = match (b, reach.and_then(|r| r.get(j))) {
+                        (None, _) => 0.0,
+                        (Some(b), Some(&r)) if r > 0.0 => local[*b][j] / r,
+                        // A joint whose rate was taken with no reach keeps its rate.
+                        (Some(_), _) => 1.0,
+                    };
+                }
+            }
+        }
+        self.odo_at.fill(0);
         self.rates.clear();
         self.rates.extend(rates.iter().cloned());
         self.speed.clear();
         self.speed.extend(self.movers.iter().map(|m| movers_sum(m, rates)));
         self.t0 = t;
-        self.odo0.clear();
-        self.odo0.extend(self.movers.iter().map(|m| movers_sum(m, &self.joint_odo)));
+        self.until = until;
         self.standing.clear();
         for (g, m) in self.movers.iter().enumerate() {
             if self.populated[g] && self.speed[g] <= 0.0 {
@@ -309,13 +365,15 @@ impl Cell<'_> {
     /// How long from the instant last checked (posed in `s`) nothing can come closer than
     /// the checks allow. `rates[r][j]`: how fast joint `j` of robot `r` can move any point
     /// it moves (its reach times its peak speed from now to the stretch's end), so that a
-    /// robot's points
-    /// move at most the sum of its rates, one body's at most the sum of each rate weighed by
-    /// the body's own reach, and two of its own bodies apart at most the sum over the joints
-    /// that move one and not the other; `odometers[r][j]`: the integral of
-    /// that rate from the start. Every pair the checks look at is at least its boxes' gap
-    /// apart; that gap, less the clearance the pair must keep, shrinks no faster than the
-    /// pair moves apart. 0 when a pair is already too close; infinite when nothing moves.
+    /// robot's points move at most the sum of its rates; one body's at most the sum of each
+    /// rate weighed by the body's own reach over the rate's, the body's reach taken from
+    /// where it stands at the part's first instant and at the stretch's end (`ends`, at
+    /// `until`); two of its own bodies apart at most the sum so over the joints that move
+    /// one and not the other. `odometers[r][j]`: the integral of the rate from the start
+    /// (a body's odometer adds each part's weighed rates). Every pair the checks look at
+    /// is at least its boxes' gap apart; that gap, less the clearance the pair must keep,
+    /// shrinks no faster than the pair moves apart. 0 when a pair is already too close;
+    /// infinite when nothing moves.
     ///
     /// Also whether the bounds prove the instant itself clear: every pair whose movers
     /// move has a lower bound above what it must keep (a free time above 0 says so), and
@@ -329,7 +387,7 @@ impl Cell<'_> {
         present: &ObjectSet,
         still: &[bool],
         t: f64,
-        (rates, odometers): (&[Vec<f64>], &[Vec<f64>]),
+        Motion { rates, odometers, until, ends }: Motion,
         s: &Scratch,
         memory: &mut Memory,
     ) -> (f64, bool) {
@@ -341,10 +399,19 @@ impl Cell<'_> {
             self.list_pairs(at, present, s, memory);
         }
         memory.instant += 1;
-        memory.joint_odo.clear();
-        memory.joint_odo.extend(odometers.iter().cloned());
-        if listed || memory.rates.as_slice() != rates {
-            memory.start_stretch(t, rates);
+        if memory.joint_odo0.len() != odometers.len()
+            || memory.joint_odo0.iter().zip(odometers).any(|(a, b)| a.len() != b.len())
+        {
+            memory.joint_odo0 = odometers.iter().map(|o| vec![0.0; o.len()]).collect();
+        }
+        memory.joint_odo.resize_with(odometers.len(), Vec::new);
+        for ((d, o), o0) in memory.joint_odo.iter_mut().zip(odometers).zip(&memory.joint_odo0) {
+            d.clear();
+            d.extend(o.iter().zip(o0).map(|(o, o0)| o - o0));
+        }
+        if listed || memory.rates.as_slice() != rates || memory.until != until {
+            self.local_reach(at, (t, until), rates, ends, memory);
+            memory.start_stretch(t, until, rates, listed);
             if !memory.fresh && !memory.every_pair {
                 memory.rebuild_queue();
             }
@@ -361,6 +428,43 @@ impl Cell<'_> {
             self.free_time_queued(s, memory, t)
         };
         (free, standing_bounded && free > 0.0)
+    }
+
+    /// Per robot, per body, per joint: the body's reach from where it stands to where it
+    /// stands at the stretch's end (`ends`, at `until`), each joint turning at most its
+    /// peak speed (its rate over the reach the rate was taken with) all the while (see
+    /// `AxisReach::bodies_over`). A robot standing still keeps what it had (its speed is
+    /// nought whatever its weights); without that reach, the body's static reach.
+    fn local_reach(
+        &self,
+        at: &[RobotAt],
+        (t, until): (f64, f64),
+        rates: &[Vec<f64>],
+        ends: &[Vec<f64>],
+        memory: &mut Memory,
+    ) {
+        memory.local.resize_with(at.len(), Vec::new);
+        memory.far_end.resize_with(at.len(), || (f64::NAN, Vec::new()));
+        for (ri, ra) in at.iter().enumerate() {
+            let own = &self.robots[ri].body_reach;
+            let (Some(reach), Some(rates), Some(end)) = (memory.reach.get(ri), rates.get(ri), ends.get(ri)) else {
+                memory.local[ri].clone_from(own);
+                continue;
+            };
+            if memory.local[ri].len() == own.len() && rates.iter().all(|v| *v == 0.0) {
+                continue;
+            }
+            let axes = &self.axes[ri];
+            if memory.far_end[ri].0 != until {
+                memory.far_end[ri].0 = until;
+                axes.bodies_farthest(end, &mut memory.reach_scratch, &mut memory.far_end[ri].1);
+            }
+            axes.bodies_farthest(ra.q, &mut memory.reach_scratch, &mut memory.far_here);
+            let left = until - t;
+            memory.turn.clear();
+            memory.turn.extend(rates.iter().zip(reach).map(|(v, r)| if *r > 0.0 { v / r * left } else { 0.0 }));
+            axes.bodies_over((&memory.far_here, &memory.far_end[ri].1), &memory.turn, own, &mut memory.local[ri]);
+        }
     }
 
     /// The shapes of one side of a pair.

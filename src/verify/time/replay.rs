@@ -1,7 +1,7 @@
 //! The sampling loop: instants chosen so that nothing moves more than the bound
 //! between two of them, and the whole cell checked at each.
 
-use super::advance::Memory;
+use super::advance::{Memory, Motion};
 use super::events::Marks;
 use super::grid::{Grid, WINDOWS};
 use super::scene::{Cell, Finding, RobotAt, Scratch};
@@ -24,10 +24,6 @@ const PARTS: u64 = 8;
 /// A robot at one instant as far as its own checks go: configuration, object held,
 /// object it may touch.
 type Stance = (Vec<f64>, Option<ObjectId>, Option<ObjectId>);
-
-/// Per robot, per joint: how fast it moves any point on the stretch, and how far it has
-/// moved one since the start (see `Cell::free_time`).
-type Motion<'a> = (&'a [Vec<f64>], &'a [Vec<f64>]);
 
 pub(super) fn run(
     world: &World,
@@ -137,6 +133,7 @@ pub(super) fn run(
     let mut window_ends: Vec<(Option<f64>, Farthest, Farthest)> = vec![(None, Vec::new(), Vec::new()); tracks.len()];
     let (mut end_q, mut end_qd, mut end_scratch) = (Vec::new(), Vec::new(), ReachScratch::default());
     let (mut travel, mut window_reach) = (Vec::new(), Vec::new());
+    let (mut stretch_ends, mut stretch_end_qd): (Vec<Vec<f64>>, _) = (vec![Vec::new(); tracks.len()], Vec::new());
     for w in times.windows(2) {
         let (ta, tb) = (w[0], w[1]);
         // How fast each joint of each robot moves any point it moves on this stretch, and
@@ -193,6 +190,11 @@ pub(super) fn run(
         // slowing down to its end proves more the nearer it gets (where the Panda's grasps
         // and goals touch within the tolerance). The odometers add the part's rates up.
         let parts = Parts::new(ta, tb, uniform.min(PARTS));
+        // Where each robot stands at the stretch's end: its bodies' reach is taken between
+        // there and where they stand at each part's first instant.
+        for (tr, q) in tracks.iter().zip(stretch_ends.iter_mut()) {
+            state_at(tr, tb, q, &mut stretch_end_qd);
+        }
         let mut part = 0;
         remainder_rates(tracks, &segments, &reach, parts.start(0), tb, &mut part_peak, &mut part_rates);
         let mut base = travelled.clone();
@@ -211,7 +213,7 @@ pub(super) fn run(
                     *o = b + v * (t - parts.start(part));
                 }
             }
-            let proof = Some((&part_rates[..], &odometers[..]));
+            let proof = Some(Motion { rates: &part_rates, odometers: &odometers, until: tb, ends: &stretch_ends });
             let free = sample(t, proof, !opts.every_step && t <= clear_until, &mut samples, None);
             clear_until = t + free;
             at = if opts.every_step { grid.next(i) } else { grid.skip_to(i, t + free) };

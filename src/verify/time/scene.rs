@@ -11,8 +11,8 @@ use parry3d_f64::shape::Shape;
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{
-    distance_at_least, shape_distance, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner, StaticShape,
-    World, CONTACT_TOLERANCE, LOWER_BOUND_TOLERANCE,
+    distance_at_least, shape_distance, AxisReach, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner,
+    StaticShape, World, CONTACT_TOLERANCE, LOWER_BOUND_TOLERANCE,
 };
 
 /// One robot at the instant.
@@ -43,6 +43,8 @@ pub(super) struct Cell<'w> {
     pub statics: Vec<StaticShape>,
     bvh: Bvh,
     pub robots: Vec<RobotGeo>,
+    /// Per robot: its bodies' reach where they stand (see `AxisReach::bodies_over`).
+    pub axes: Vec<AxisReach<'w>>,
     pub clearance: f64,
 }
 
@@ -72,7 +74,8 @@ impl<'w> Cell<'w> {
                 }
             })
             .collect();
-        Cell { world, statics, bvh, robots, clearance }
+        let axes = (0..world.scenario().robots.len()).map(|ri| world.axis_reach(RobotId(ri as u32), 0.0)).collect();
+        Cell { world, statics, bvh, robots, axes, clearance }
     }
 
     /// Every robot's shapes and what it carries, posed at this instant.

@@ -68,8 +68,10 @@ impl Cell<'_> {
                 }
             };
             let whole = group(Movers::Robot(ri));
-            let weigh = |body: usize| -> Vec<f64> {
-                (0..g.body_joints[body].len()).map(|j| own_weight(g, memory_reach.get(ri), body, j)).collect()
+            let weigh = |body: usize| Movers::Weighted {
+                robot: ri,
+                moved: vec![Some(body); g.body_joints[body].len()],
+                weights: (0..g.body_joints[body].len()).map(|j| own_weight(g, memory_reach.get(ri), body, j)).collect(),
             };
             // Against the scene a body closes in no faster than its own points move: the
             // joints below it, each by the body's own reach. A link near the base moves
@@ -77,7 +79,7 @@ impl Cell<'_> {
             let mut own: Vec<Option<usize>> = vec![None; g.bodies.len()];
             for (e, _) in self.statics.iter().enumerate().filter(|(_, st)| checked(st.owner, false)) {
                 for (u, b) in bodies(ri).filter(|&(_, b)| g.bodies[b].moving) {
-                    let m = *own[b].get_or_insert_with(|| group(Movers::Weighted(ri, weigh(b))));
+                    let m = *own[b].get_or_insert_with(|| group(weigh(b)));
                     pairs.push(Pair { a: Thing::Unit(ri, u), b: Thing::Static(e), must: c, movers: m });
                 }
             }
@@ -88,17 +90,19 @@ impl Cell<'_> {
             }
             let apart = |x: &[bool], y: &[bool]| x.iter().zip(y).map(|(x, y)| x != y).collect::<Vec<bool>>();
             for &(a, b) in &g.self_pairs {
-                let weights = (0..g.body_joints[a].len())
-                    .map(|j| {
-                        let moved = match (g.body_joints[a][j], g.body_joints[b][j]) {
-                            (true, false) => a,
-                            (false, true) => b,
-                            _ => return 0.0,
-                        };
-                        own_weight(g, memory_reach.get(ri), moved, j)
+                let moved: Vec<Option<usize>> = (0..g.body_joints[a].len())
+                    .map(|j| match (g.body_joints[a][j], g.body_joints[b][j]) {
+                        (true, false) => Some(a),
+                        (false, true) => Some(b),
+                        _ => None,
                     })
                     .collect();
-                let m = group(Movers::Weighted(ri, weights));
+                let weights = moved
+                    .iter()
+                    .enumerate()
+                    .map(|(j, m)| m.map_or(0.0, |m| own_weight(g, memory_reach.get(ri), m, j)))
+                    .collect();
+                let m = group(Movers::Weighted { robot: ri, moved, weights });
                 for (x, _) in bodies(ri).filter(|&(_, x)| x == a) {
                     for (y, _) in bodies(ri).filter(|&(_, y)| y == b) {
                         pairs.push(Pair { a: Thing::Unit(ri, x), b: Thing::Unit(ri, y), must: 0.0, movers: m });
