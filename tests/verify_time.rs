@@ -379,21 +379,22 @@ fn the_dense_recheck_agrees_on_the_swings() {
     assert!(found.iter().any(|(t, what)| (0.9..1.1).contains(t) && what.contains("robot 0 body link")), "{found:?}");
 }
 
-/// Three links 0.4 m long in a row, joints 0.5 m apart turning about z within ±0.3 rad:
-/// links 1 and 3 never come near each other, so sampling prunes their pair.
+/// Three links 0.4 m long, joints 0.5 m apart turning about z within 2.9 to 3.1 rad:
+/// link 2 folds back over link 1 and link 3 back over link 1 again, flat on it in every
+/// configuration, so sampling prunes their pair (in contact by construction).
 const THREE: &str = r#"<robot name="three"><link name="base"/>
 <link name="l1"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
 <link name="l2"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
 <link name="l3"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
-<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
-<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
-<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-0.3" upper="0.3" effort="1" velocity="1"/></joint>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="2.9" upper="3.1" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="2.9" upper="3.1" effort="1" velocity="1"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="2.9" upper="3.1" effort="1" velocity="1"/></joint>
 </robot>"#;
 
 #[test]
 fn self_collision_is_checked_over_every_pair_the_sampled_pruning_dropped() {
     let loader = declutter::diag::MemLoader::new().with("/m/three.urdf", THREE.to_string());
-    let scn = scenario(vec![robot("three", "/m/three.urdf", vec![0.0; 3], None)], vec![], vec![], vec![]);
+    let scn = scenario(vec![robot("three", "/m/three.urdf", vec![3.0; 3], None)], vec![], vec![], vec![]);
     let opts = WorldOptions { self_collision_samples: 500, ..WorldOptions::default() };
     let w = build(&scn, &opts, &loader).unwrap_or_else(|e| panic!("{e:?}"));
     assert!(w.self_collision_pairs(P1).is_empty(), "the planner's list: {:?}", w.self_collision_pairs(P1));

@@ -147,7 +147,7 @@ impl World {
         m.chain.links.iter().zip(out).map(|(l, p)| (l.name.clone(), m.pose_world_base * p)).collect()
     }
     /// The link pairs checked for self-collision (after removing adjacent, rigidly
-    /// joined, allowed, and — when sampling — always- or never-colliding pairs).
+    /// joined, allowed, and — when sampling — always-colliding pairs).
     pub fn self_collision_pairs(&self, r: RobotId) -> Vec<(&str, &str)> {
         let m = &self.robots[r.index()];
         m.self_pairs.iter().map(|&(a, b)| (m.bodies[a].name.as_str(), m.bodies[b].name.as_str())).collect()
