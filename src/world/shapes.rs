@@ -126,10 +126,16 @@ impl Obb {
         at
     }
 
-    /// Its world box when its frame stands at `pose`.
+    /// Its world box when its frame stands at `pose`: one rotation matrix turns both the
+    /// centre's shift and the extents (parry's box of the placed cuboid turns the shift by
+    /// the quaternion, then builds the matrix for the extents; every check builds a box
+    /// per body this way).
     #[inline]
     pub fn world_aabb(&self, pose: &PPose) -> Aabb {
-        self.cuboid.compute_aabb(&self.placed(pose))
+        let m = parry3d_f64::math::Matrix::from_quat(pose.rotation);
+        let centre = pose.translation + m * self.centre.translation;
+        let extents = m.abs() * self.cuboid.half_extents;
+        Aabb::new(centre - extents, centre + extents)
     }
 
     /// False only when the boxes, placed at `p1` and `p2`, are apart.
