@@ -151,18 +151,25 @@ impl<'w> AxisReach<'w> {
         AxisReach { model: m, spheres, driven, shape_body, moves, slides, held_radius }
     }
 
-    /// Per driven link, the farthest point it turns from its axis at `q` (a sliding
-    /// joint's entry is unused), into `out`.
-    pub fn farthest(&self, q: &[f64], scratch: &mut ReachScratch, out: &mut Farthest) {
+    /// The links' poses at `q`, and each shape's ball's centre (once, not once per joint
+    /// that turns it), in `scratch`.
+    fn pose<'s>(&self, q: &[f64], scratch: &'s mut ReachScratch) -> (&'s [Isometry3<f64>], &'s [Vector3<f64>]) {
         let chain = &self.model.chain;
         super::robot::assert_dof(self.model, q);
         let ReachScratch { links, centres } = scratch;
         links.clear();
         links.resize(chain.links.len(), Isometry3::identity());
         chain.fk_into(q, links);
-        // Each ball's centre once, not once per joint that turns it.
         centres.clear();
         centres.extend(self.spheres.iter().map(|(l, c, _)| (links[*l] * c).coords));
+        (links, centres)
+    }
+
+    /// Per driven link, the farthest point it turns from its axis at `q` (a sliding
+    /// joint's entry is unused), into `out`.
+    pub fn farthest(&self, q: &[f64], scratch: &mut ReachScratch, out: &mut Farthest) {
+        let chain = &self.model.chain;
+        let (links, centres) = self.pose(q, scratch);
         out.clear();
         for d in &self.driven {
             let Some(axis) = d.axis else {
@@ -187,14 +194,7 @@ impl<'w> AxisReach<'w> {
     /// turns from its axis at `q` (metres); `-inf` where it does not turn the body (and for
     /// a sliding joint).
     pub fn bodies_farthest(&self, q: &[f64], scratch: &mut ReachScratch, out: &mut BodiesFarthest) {
-        let chain = &self.model.chain;
-        super::robot::assert_dof(self.model, q);
-        let ReachScratch { links, centres } = scratch;
-        links.clear();
-        links.resize(chain.links.len(), Isometry3::identity());
-        chain.fk_into(q, links);
-        centres.clear();
-        centres.extend(self.spheres.iter().map(|(l, c, _)| (links[*l] * c).coords));
+        let (links, centres) = self.pose(q, scratch);
         let bodies = self.moves.len();
         out.clear();
         out.resize(self.driven.len() * bodies, f64::NEG_INFINITY);
