@@ -4,19 +4,8 @@
 use parry3d_f64::bounding_volume::Aabb;
 
 use super::{Memory, Movers, Pair, Thing, Unit};
-use crate::verify::time::scene::{Cell, RobotAt, RobotGeo, Scratch};
+use crate::verify::time::scene::{Cell, RobotAt, Scratch};
 use crate::world::{GjkStart, ObjectSet, StaticOwner};
-
-/// Joint `j`'s rate weighed by how far it can move `body`'s own points over how far it
-/// can move any (the reach its rate was taken with): the body's points then move no
-/// faster than the weighed rates' sum. A joint whose rate was taken with no reach keeps
-/// its rate as it is.
-fn own_weight(g: &RobotGeo, reach: Option<&Vec<f64>>, body: usize, j: usize) -> f64 {
-    match reach.and_then(|r| r.get(j)) {
-        Some(&r) if r > 0.0 => g.body_reach[body][j] / r,
-        _ => 1.0,
-    }
-}
 
 impl Cell<'_> {
     /// Every pair the checks look at, in an order fixed by who holds what and which
@@ -48,7 +37,7 @@ impl Cell<'_> {
             })
             .collect();
         memory.unit_box = memory.units.iter().map(|us| vec![(0, Aabb::new_invalid()); us.len()]).collect();
-        let (pairs, movers, memory_reach) = (&mut memory.pairs, &mut memory.movers, &memory.reach);
+        let (pairs, movers) = (&mut memory.pairs, &mut memory.movers);
         let units = &memory.units;
         pairs.clear();
         movers.clear();
@@ -68,10 +57,12 @@ impl Cell<'_> {
                 }
             };
             let whole = group(Movers::Robot(ri));
+            // The weights are the body's reach over the rates', set at each part of a
+            // stretch (`Memory::start_stretch`, which follows every new list of pairs).
             let weigh = |body: usize| Movers::Weighted {
                 robot: ri,
                 moved: vec![Some(body); g.body_joints[body].len()],
-                weights: (0..g.body_joints[body].len()).map(|j| own_weight(g, memory_reach.get(ri), body, j)).collect(),
+                weights: vec![0.0; g.body_joints[body].len()],
             };
             // Against the scene a body closes in no faster than its own points move: the
             // joints below it, each by the body's own reach. A link near the base moves
@@ -97,11 +88,7 @@ impl Cell<'_> {
                         _ => None,
                     })
                     .collect();
-                let weights = moved
-                    .iter()
-                    .enumerate()
-                    .map(|(j, m)| m.map_or(0.0, |m| own_weight(g, memory_reach.get(ri), m, j)))
-                    .collect();
+                let weights = vec![0.0; moved.len()];
                 let m = group(Movers::Weighted { robot: ri, moved, weights });
                 for (x, _) in bodies(ri).filter(|&(_, x)| x == a) {
                     for (y, _) in bodies(ri).filter(|&(_, y)| y == b) {
