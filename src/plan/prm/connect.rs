@@ -18,10 +18,11 @@
 //!
 //! As the roadmap's edges and the goal trees' are, a step is first checked at the
 //! planner's resolution only; the rest of the certifying check (four times as many
-//! samples) runs on the steps of a path once the trees meet, and a step that fails it is
-//! taken out of its tree with everything grown from it (Bohlin and Kavraki's lazy
-//! evaluation). Most steps never lie on the path: the Panda's `narrow_gap` problems spent
-//! about half their checks certifying them.
+//! samples) runs once the trees meet, on the steps of their path that its shortcut keeps,
+//! and a step that fails it is taken out of its tree with everything grown from it
+//! (Bohlin and Kavraki's lazy evaluation). Most steps never lie on the path (the Panda's
+//! `narrow_gap` problems spent about half their checks certifying them), and most of a
+//! path's steps are dropped by its shortcut.
 
 use std::time::Instant;
 
@@ -33,6 +34,7 @@ use super::super::roadmap::{mix, normal};
 use super::super::space::{Mode, Space};
 use super::goals::{TREE_LOCAL, TREE_SIGMA, TREE_STEP};
 use super::RobotPlanner;
+use crate::world::ObjectSet;
 
 /// Extension attempts (each followed by a connect) per roadmap sample while the query
 /// has no path: without them it gives up. (With 64 the Panda's `narrow_gap` 13 was solved
@@ -126,20 +128,18 @@ impl Tree {
             }
         }
     }
-    /// Finishes the certifying check of each step along `chain` (from [`Tree::chain`]);
-    /// false (the failing step's subtree taken out) when one fails.
-    fn certify<S: Space>(&mut self, p: &RobotPlanner<S>, chain: &[usize], mode: &Mode, checks: &mut u64) -> bool {
-        for &k in chain {
-            if self.sure[k] {
-                continue;
-            }
-            let parent = self.parent[k] as usize;
-            if !p.rest_clear(self.q(parent), self.q(k), mode, checks) {
-                self.kill(k);
-                return false;
-            }
-            self.sure[k] = true;
+    /// Finishes the certifying check of the step into node `k`; false (its subtree taken
+    /// out) when it fails.
+    fn certify<S: Space>(&mut self, p: &RobotPlanner<S>, k: usize, mode: &Mode, checks: &mut u64) -> bool {
+        if self.sure[k] {
+            return true;
         }
+        let parent = self.parent[k] as usize;
+        if !p.rest_clear(self.q(parent), self.q(k), mode, checks) {
+            self.kill(k);
+            return false;
+        }
+        self.sure[k] = true;
         true
     }
 }
@@ -209,15 +209,17 @@ impl FreeConnect {
         }
     }
 
+    /// Steps of the trees that passed the whole certifying check.
+    #[cfg(test)]
+    pub(super) fn certified_steps(&self) -> usize {
+        let t = |t: &Tree| (0..t.len()).filter(|&k| t.sure[k] && t.parent[k] != u32::MAX).count();
+        t(&self.a) + t(&self.b)
+    }
+
     /// Nodes taken out of the trees by the certifying check.
     #[cfg(test)]
     pub(super) fn dead_nodes(&self) -> usize {
         self.a.dead.iter().chain(&self.b.dead).filter(|d| **d).count()
-    }
-
-    /// The mode the search checks in.
-    pub(super) fn mode(&self) -> &Mode {
-        &self.mode
     }
 
     /// Up to `attempts` more extensions, each followed by a connect of the other tree;
@@ -272,26 +274,11 @@ impl FreeConnect {
                     match p.free_step(&mut self.b, from, &target, &self.mode, checks) {
                         Grew::Advanced(j) => from = Start::At(j),
                         Grew::Trapped => break,
-                        Grew::Reached(j) => {
-                            // Both ends of the path certified, or the trees go on growing
-                            // without the step that failed.
-                            let (chain_a, chain_b) = (self.a.chain(i), self.b.chain(j));
-                            if !(self.a.certify(p, &chain_a, &self.mode, checks)
-                                && self.b.certify(p, &chain_b, &self.mode, checks))
-                            {
-                                break;
-                            }
-                            let (root_a, root_b) = (chain_a[0], chain_b[0]);
-                            let mut path: Vec<Vec<f64>> = chain_a.iter().map(|&k| self.a.q(k).to_vec()).collect();
-                            path.extend(chain_b.iter().rev().skip(1).map(|&k| self.b.q(k).to_vec()));
-                            let goal_root = if self.swapped {
-                                path.reverse();
-                                root_a
-                            } else {
-                                root_b
-                            };
-                            return Some((path, self.goals[goal_root]));
-                        }
+                        Grew::Reached(j) => match self.met(p, i, j, checks) {
+                            Some(found) => return Some(found),
+                            // The trees go on growing without the step that failed.
+                            None => break,
+                        },
                     }
                 }
             }
@@ -299,6 +286,43 @@ impl FreeConnect {
             self.swapped = !self.swapped;
         }
         None
+    }
+
+    /// The path from the start to a goal through node `i` of `a` and node `j` of `b` (the
+    /// same configuration), shortened, and its goal's index; `None` when a step of the
+    /// trees that the shortened path keeps fails the rest of the certifying check. Steps
+    /// the shortcut drops are never certified (see [`RobotPlanner::shortcut_certifying`]).
+    fn met<S: Space>(
+        &mut self,
+        p: &RobotPlanner<S>,
+        i: usize,
+        j: usize,
+        checks: &mut u64,
+    ) -> Option<(Vec<Vec<f64>>, usize)> {
+        let (chain_a, chain_b) = (self.a.chain(i), self.b.chain(j));
+        let (na, nb) = (chain_a.len(), chain_b.len());
+        let mut path: Vec<Vec<f64>> = chain_a.iter().map(|&k| self.a.q(k).to_vec()).collect();
+        path.extend(chain_b.iter().rev().skip(1).map(|&k| self.b.q(k).to_vec()));
+        let goal_root = if self.swapped {
+            path.reverse();
+            chain_a[0]
+        } else {
+            chain_b[0]
+        };
+        let goal = self.goals[goal_root];
+        let (a, b, swapped, steps) = (&mut self.a, &mut self.b, self.swapped, na + nb - 2);
+        // Step `s` of the path as built (before any reversal) ends at a node of `a`
+        // (`a`'s step into it) while on `a`'s chain, then starts at one of `b`'s (`b`'s
+        // step into the node it leaves).
+        let own = |s: usize, checks: &mut u64| {
+            let s = if swapped { steps - 1 - s } else { s };
+            match s + 1 < na {
+                true => a.certify(p, chain_a[s + 1], &self.mode, checks),
+                false => b.certify(p, chain_b[nb - 1 - (s + 1 - na)], &self.mode, checks),
+            }
+        };
+        let short = p.shortcut_certifying(&path, &self.mode, &ObjectSet::new(), checks, own)?;
+        Some((short, goal))
     }
 
     /// Grows the goals' tree along the escape line of each root (see

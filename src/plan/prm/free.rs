@@ -21,8 +21,8 @@ pub(super) struct FreeSearch {
     ends: Vec<usize>,
     /// The query goal the first leg reached.
     goal: Option<usize>,
-    /// The legs found so far, each with the mode it was searched in.
-    done: Vec<(Vec<Vec<f64>>, Mode)>,
+    /// The legs found so far, each shortened in the mode it was searched in.
+    done: Vec<Vec<Vec<f64>>>,
     /// The leg being searched; `None` once the next leg cannot be (its start or end
     /// touches something in its mode).
     current: Option<FreeConnect>,
@@ -63,12 +63,11 @@ impl FreeSearch {
             self.attempted += leg.attempted - before;
             attempts -= (leg.attempted - before).min(attempts);
             let (path, end) = found?;
-            let mode = leg.mode().clone();
             if self.goal.is_none() {
                 self.goal = Some(self.ends[end]);
             }
-            self.done.push((path, mode));
-            let (Some(o), Some(g)) = (self.object, self.goal) else { return Some(p.free_answer(self, goals, checks)) };
+            self.done.push(path);
+            let (Some(o), Some(g)) = (self.object, self.goal) else { return Some(p.free_answer(self, goals)) };
             let (home, drop) = (p.space.home().to_vec(), p.space.drop_config().to_vec());
             self.current = match self.done.len() {
                 // Carrying the object from its pre-grasp to the drop.
@@ -81,7 +80,7 @@ impl FreeSearch {
                     let gone = Mode { absent: ObjectSet::single(o), held: None };
                     FreeConnect::new(p, &drop, &[&home], gone, checks)
                 }
-                _ => return Some(p.free_answer(self, goals, checks)),
+                _ => return Some(p.free_answer(self, goals)),
             };
         }
         None
@@ -89,12 +88,9 @@ impl FreeSearch {
 }
 
 impl<S: Space> RobotPlanner<S> {
-    /// The answer from a free search's legs, each shortened in its own mode: it removes
-    /// nothing.
-    fn free_answer(&self, f: &FreeSearch, goals: &[GraspGoal], checks: &mut u64) -> FoundPath {
-        let none = ObjectSet::new();
-        let legs: Vec<Vec<Vec<f64>>> =
-            f.done.iter().map(|(path, mode)| self.shortcut(path, mode, &none, checks)).collect();
+    /// The answer from a free search's legs: it removes nothing.
+    fn free_answer(&self, f: &FreeSearch, goals: &[GraspGoal]) -> FoundPath {
+        let legs = &f.done;
         let (approach, retreat) = match (f.object, f.goal) {
             (Some(_), Some(g)) => {
                 let q_grasp = goals[g].cfg.q_grasp.clone();

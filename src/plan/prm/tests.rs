@@ -258,8 +258,9 @@ fn slit_planner(hole: f64, max_samples: usize, seed: u64) -> RobotPlanner<Slit> 
 const BEHIND: [f64; 3] = [0.8, -0.7, -0.7];
 
 /// The free-space trees (`connect`): from home to a goal behind the wall, through the
-/// hole, every motion clear at the certifying resolution; the same path again from the
-/// same seed; nothing when the goal touches the door.
+/// hole, every motion clear at the certifying resolution, shortened, with only the trees'
+/// steps it keeps certified; the same path again from the same seed; nothing when the
+/// goal touches the door.
 #[test]
 fn the_free_trees_find_the_hole_and_never_the_door() {
     // (Seeds 0 to 7 find it in 158 to 11 952 attempts.)
@@ -282,6 +283,9 @@ fn the_free_trees_find_the_hole_and_never_the_door() {
     // It crossed the wall, so through the hole (the door touches object 0).
     let crossed = path.windows(2).any(|w| (w[0][0] < 0.0) != (w[1][0] < 0.0));
     assert!(crossed && search.attempted == 438, "{} attempts", search.attempted);
+    // Only the steps of the trees that the shortened path keeps were certified: here one
+    // of its three moves (certifying the whole chain first took 15).
+    assert_eq!((search.certified_steps(), path.len()), (1, 4));
     let again = free(&slit_planner(0.06, 5000, 1), &[&BEHIND], &mut 0).and_then(|mut s| s.grow(&p, 20_000, t0, &mut 0));
     assert_eq!(again.as_ref().map(|a| &a.0), Some(&path));
     // A goal in the door is left out; with no other, there is no search.
