@@ -52,7 +52,7 @@ pub use labels::{Blocker, Check, ObjectSet};
 pub use lower_bound::{distance_at_least, distance_at_least_from, GjkStart, LOWER_BOUND_TOLERANCE};
 pub use proximity::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, RobotAt};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
-pub use sweep::{BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
+pub use sweep::{posture_of, BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
 pub use urdf::DEFAULT_VELOCITY;
 
 use std::ops::{Deref, DerefMut};

@@ -138,40 +138,60 @@ impl World {
         exact: bool,
     ) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
+        self.shape_slots(r, out);
+        WORLD_LINKS.with(|cell| {
+            let mut world = cell.borrow_mut();
+            let flange = self.pose_links(r, q, &mut world);
+            let posture = posture_of(held);
+            for (si, o) in out.iter_mut().enumerate() {
+                pose_shape(m, &world, si, posture, exact, &mut o.pose, &mut o.aabb);
+            }
+            flange
+        })
+    }
+
+    /// `out` holding robot `r`'s shapes in order, for [`World::pose_shape_on`]: kept when
+    /// it already does (their poses and boxes then as they were).
+    pub fn shape_slots(&self, r: RobotId, out: &mut Vec<PosedShape>) {
+        let m = &self.robots[r.index()];
+        // The replay poses the same robot at every instant: when `out` already holds its
+        // shapes, only their poses and boxes change (no reference counting).
+        if !(out.len() == m.shapes.len() && out.iter().zip(&m.shapes).all(|(o, s)| same_shape(o, s.body, &s.placed))) {
+            out.clear();
+            out.extend(m.shapes.iter().map(|s| PosedShape {
+                body: s.body,
+                shape: s.placed.shape.clone(),
+                eroded: s.placed.eroded.clone(),
+                pose: PPose::IDENTITY,
+                aabb: Aabb::new_invalid(),
+            }));
+        }
+    }
+
+    /// The first half of [`World::pose_shapes_bounded`], for a replay that poses only the
+    /// shapes it asks about: every link's world pose at `q` into `links`; returns the
+    /// flange pose. Panics if `q.len()` is not [`World::dof`].
+    pub fn pose_links(&self, r: RobotId, q: &[f64], links: &mut Vec<PPose>) -> Isometry3<f64> {
+        let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
         LINKS.with(|cell| {
-            let mut scratch = cell.borrow_mut();
-            let (links, world) = &mut *scratch;
-            links.clear();
-            links.resize(m.chain.links.len(), Isometry3::identity());
+            let mut from_base = cell.borrow_mut();
+            from_base.clear();
+            from_base.resize(m.chain.links.len(), Isometry3::identity());
             // Each link's world pose once, not once per shape on it, from the base's pose in
             // the world (no second product per link, as the check poses them).
-            m.chain.fk_from(&m.pose_world_base, q, links);
-            world.clear();
-            world.extend(links.iter().map(to_ppose));
-            let posture = held.map_or(super::OPEN_POSTURE, |h| h.posture);
-            // The replay poses the same robot at every instant: when `out` already holds
-            // its shapes, only their poses and boxes change (no reference counting).
-            if out.len() == m.shapes.len() && out.iter().zip(&m.shapes).all(|(o, s)| same_shape(o, s.body, &s.placed)) {
-                for (si, o) in out.iter_mut().enumerate() {
-                    pose_shape(m, world, si, posture, exact, &mut o.pose, &mut o.aabb);
-                }
-            } else {
-                out.clear();
-                for (si, s) in m.shapes.iter().enumerate() {
-                    let (mut pose, mut aabb) = (PPose::IDENTITY, Aabb::new_invalid());
-                    pose_shape(m, world, si, posture, exact, &mut pose, &mut aabb);
-                    out.push(PosedShape {
-                        body: s.body,
-                        shape: s.placed.shape.clone(),
-                        eroded: s.placed.eroded.clone(),
-                        pose,
-                        aabb,
-                    });
-                }
-            }
-            links[m.chain.flange]
+            m.chain.fk_from(&m.pose_world_base, q, &mut from_base);
+            links.clear();
+            links.extend(from_base.iter().map(to_ppose));
+            from_base[m.chain.flange]
         })
+    }
+
+    /// The second half: shape `si` of robot `r` (in the order of [`World::shape_slots`])
+    /// placed on `links` (from [`World::pose_links`]) with the fingers in `posture` (see [`posture_of`]), its box
+    /// the replay's bound, as [`World::pose_shapes_bounded`] gives it.
+    pub fn pose_shape_on(&self, r: RobotId, links: &[PPose], si: usize, posture: usize, out: &mut PosedShape) {
+        pose_shape(&self.robots[r.index()], links, si, posture, false, &mut out.pose, &mut out.aabb);
     }
 
     /// The fixed bodies and every removable object at its scenario pose.
@@ -284,9 +304,15 @@ impl World {
 }
 
 thread_local! {
-    /// Link poses for [`World::pose_shapes`] (from the base, and in the world), reused
-    /// across calls.
-    static LINKS: RefCell<(Vec<Isometry3<f64>>, Vec<PPose>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+    /// Link poses for [`World::pose_links`], reused across calls.
+    static LINKS: RefCell<Vec<Isometry3<f64>>> = const { RefCell::new(Vec::new()) };
+    /// The links' world poses for [`World::pose_shapes`], reused across calls.
+    static WORLD_LINKS: RefCell<Vec<PPose>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The fingers' posture of a robot holding `held` (open when it holds nothing).
+pub fn posture_of(held: Option<&Held>) -> usize {
+    held.map_or(super::OPEN_POSTURE, |h| h.posture)
 }
 
 /// Shape `si` of `m` placed on its link (`links`: the links' world poses) with the

@@ -388,7 +388,7 @@ impl Cell<'_> {
         still: &[bool],
         t: f64,
         Motion { rates, odometers, until, ends }: Motion,
-        s: &Scratch,
+        s: &mut Scratch,
         memory: &mut Memory,
     ) -> (f64, bool) {
         let set: PairSet =
@@ -396,7 +396,7 @@ impl Cell<'_> {
         let listed = memory.set.as_ref() != Some(&set);
         if listed {
             memory.set = Some(set);
-            self.list_pairs(at, present, s, memory);
+            self.list_pairs(at, present, &*s, memory);
         }
         memory.instant += 1;
         if memory.joint_odo0.len() != odometers.len()
@@ -496,12 +496,7 @@ impl Cell<'_> {
     }
 
     /// The box around one side of a pair.
-    fn aabb(&self, s: &Scratch, memory: &mut Memory, t: Thing) -> Aabb {
-        let around = |memory: &Memory| {
-            let mut parts = self.parts(s, &memory.units, t);
-            let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
-            parts.fold(first, |b, p| b.merged(p.aabb))
-        };
+    fn aabb(&self, s: &mut Scratch, memory: &mut Memory, t: Thing) -> Aabb {
         // A single shape's box is its own (looked up, not walked to: a pair asks for its
         // sides' boxes at every bound and measure). (`list_pairs` sizes the boxes with the
         // units.)
@@ -514,7 +509,12 @@ impl Cell<'_> {
         if at == memory.instant {
             return aabb;
         }
-        let aabb = around(memory);
+        // Its shapes posed now: a unit's box taken at this instant says they are, for the
+        // measures that follow (see `Cell::pose`).
+        self.pose_shapes(s, r, &memory.units[r][u].shapes);
+        let mut parts = self.parts(s, &memory.units, t);
+        let first = parts.next().map_or_else(Aabb::new_invalid, |p| *p.aabb);
+        let aabb = parts.fold(first, |b, p| b.merged(p.aabb));
         memory.unit_box[r][u] = (memory.instant, aabb);
         aabb
     }
@@ -525,7 +525,7 @@ impl Cell<'_> {
     /// their boxes again at every instant was most of this loop's cost. A remembered gap
     /// grows stale (a looser bound), so [`Self::measure`] takes the gap afresh before it
     /// measures, and remembers it when it proves the pair need not be measured.
-    fn bound(&self, s: &Scratch, memory: &mut Memory, k: usize) -> f64 {
+    fn bound(&self, s: &mut Scratch, memory: &mut Memory, k: usize) -> f64 {
         let g = memory.pairs[k].movers;
         let speed = memory.speed[g];
         if speed <= 0.0 {
@@ -549,10 +549,12 @@ impl Cell<'_> {
     /// each shape pair skipped the same way when its own boxes' gap (or, before GJK, its
     /// turned boxes' gap) proves it cannot lower `free`; the pair keeps the least slack
     /// (or gap) of its shape pairs.
-    fn measure(&self, s: &Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
+    fn measure(&self, s: &mut Scratch, memory: &mut Memory, k: usize, free: &mut f64) {
         let now = memory.odometer(memory.pairs[k].movers);
         let (side_a, side_b) = (memory.pairs[k].a, memory.pairs[k].b);
         let gap = aabb_gap(&self.aabb(s, memory, side_a), &self.aabb(s, memory, side_b));
+        // (Both sides' shapes are posed now: their boxes were taken.)
+        let s = &*s;
         let p = &memory.pairs[k];
         let (a, b) = (self.parts(s, &memory.units, p.a), self.parts(s, &memory.units, p.b));
         let (speed, must) = (memory.speed[p.movers], p.must);
@@ -604,7 +606,7 @@ impl Cell<'_> {
 
     /// Every pair's bound, the least measured first, then every pair whose bound is below
     /// the least free time found, in the pairs' order.
-    fn free_time_all(&self, s: &Scratch, memory: &mut Memory) -> f64 {
+    fn free_time_all(&self, s: &mut Scratch, memory: &mut Memory) -> f64 {
         memory.bound.clear();
         let mut least = (f64::INFINITY, usize::MAX);
         for k in 0..memory.pairs.len() {
@@ -633,7 +635,7 @@ impl Cell<'_> {
     /// or below the free time are taken off it (give or take [`EXPIRY_SLOP`]), and each is
     /// decided by its own bound, exactly as the full pass decides it: the same pairs are
     /// measured, in the same order, and the same free time comes out.
-    fn free_time_queued(&self, s: &Scratch, memory: &mut Memory, t: f64) -> f64 {
+    fn free_time_queued(&self, s: &mut Scratch, memory: &mut Memory, t: f64) -> f64 {
         memory.taken.clear();
         // The time by which a pair whose bound is below `b` runs out.
         let limit = |b: f64| t + (b + b.abs() * 1e-9 + 1e-12);

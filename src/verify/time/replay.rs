@@ -109,11 +109,12 @@ pub(super) fn run(
         // pair's lower bound is above what it must keep: the check would find nothing (not
         // taken in the reference mode that checks every step).
         let (free, proved) = match motion {
-            Some(motion) => cell.free_time(&at, &present, &still, t, motion, &scratch, &mut memory),
+            Some(motion) => cell.free_time(&at, &present, &still, t, motion, &mut scratch, &mut memory),
             None => (0.0, false),
         };
         let settled = clear || (proved && !opts.every_step);
         if !settled {
+            cell.pose_all(&mut scratch);
             cell.check(&at, &present, &still, &scratch, &mut found);
         }
         for f in found.drain(..) {

@@ -11,8 +11,8 @@ use parry3d_f64::shape::Shape;
 use super::{Obstacle, Party};
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{
-    distance_at_least, shape_distance, AxisReach, BodyInfo, Held, HeldPart, ObjectSet, PosedShape, StaticOwner,
-    StaticShape, World, CONTACT_TOLERANCE, LOWER_BOUND_TOLERANCE,
+    distance_at_least, posture_of, shape_distance, AxisReach, BodyInfo, Held, HeldPart, ObjectSet, PosedShape,
+    StaticOwner, StaticShape, World, CONTACT_TOLERANCE, LOWER_BOUND_TOLERANCE,
 };
 
 /// One robot at the instant.
@@ -51,8 +51,15 @@ pub(super) struct Cell<'w> {
 /// Reused buffers: posed robots and carried objects.
 #[derive(Default)]
 pub(super) struct Scratch {
+    /// Per robot, its shapes; one is posed at this instant once `fresh` says so (see
+    /// [`Cell::pose`]).
     pub posed: Vec<Vec<PosedShape>>,
     pub held: Vec<Vec<HeldPart>>,
+    /// Per robot: its links' world poses and its fingers' posture at this instant, and per
+    /// shape whether `posed` has it posed there yet.
+    links: Vec<Vec<PPose>>,
+    posture: Vec<usize>,
+    fresh: Vec<Vec<bool>>,
 }
 
 impl<'w> Cell<'w> {
@@ -78,14 +85,51 @@ impl<'w> Cell<'w> {
         Cell { world, statics, bvh, robots, axes, clearance }
     }
 
-    /// Every robot's shapes and what it carries, posed at this instant.
+    /// Every robot's links and what it carries, posed at this instant; its shapes are
+    /// posed when first asked for ([`Cell::pose_shapes`], [`Cell::pose_all`]): most
+    /// instants of a replay measure a few pairs, and posing every shape of a Panda of
+    /// spheres at every instant was a seventh of a `narrow_gap` problem's compile.
     pub fn pose(&self, at: &[RobotAt], s: &mut Scratch) {
         let w = self.world;
         s.posed.resize_with(at.len(), Vec::new);
         s.held.resize_with(at.len(), Vec::new);
+        s.links.resize_with(at.len(), Vec::new);
+        s.fresh.resize_with(at.len(), Vec::new);
+        s.posture.resize(at.len(), 0);
         for (ri, ra) in at.iter().enumerate() {
-            let flange = w.pose_shapes_bounded(RobotId(ri as u32), ra.q, ra.held, &mut s.posed[ri]);
+            let r = RobotId(ri as u32);
+            // The same robot's shapes at every instant: their list is made once.
+            if s.posed[ri].is_empty() {
+                w.shape_slots(r, &mut s.posed[ri]);
+            }
+            let flange = w.pose_links(r, ra.q, &mut s.links[ri]);
+            s.posture[ri] = posture_of(ra.held);
+            s.fresh[ri].clear();
+            s.fresh[ri].resize(s.posed[ri].len(), false);
             s.held[ri] = ra.held.map(|h| w.pose_held(h, &flange)).unwrap_or_default();
+        }
+    }
+
+    /// Robot `ri`'s `shapes` posed at this instant.
+    pub fn pose_shapes(&self, s: &mut Scratch, ri: usize, shapes: &[usize]) {
+        for &si in shapes {
+            self.pose_shape(s, ri, si);
+        }
+    }
+
+    /// Every robot's shapes posed at this instant.
+    pub fn pose_all(&self, s: &mut Scratch) {
+        for ri in 0..s.posed.len() {
+            for si in 0..s.posed[ri].len() {
+                self.pose_shape(s, ri, si);
+            }
+        }
+    }
+
+    fn pose_shape(&self, s: &mut Scratch, ri: usize, si: usize) {
+        if !s.fresh[ri][si] {
+            self.world.pose_shape_on(RobotId(ri as u32), &s.links[ri], si, s.posture[ri], &mut s.posed[ri][si]);
+            s.fresh[ri][si] = true;
         }
     }
 
