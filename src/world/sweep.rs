@@ -112,31 +112,6 @@ impl World {
     /// as they hold `held` (open when empty), written into `out`; returns the flange pose.
     /// Panics if `q.len()` is not [`World::dof`].
     pub fn pose_shapes(&self, r: RobotId, q: &[f64], held: Option<&Held>, out: &mut Vec<PosedShape>) -> Isometry3<f64> {
-        self.pose_shapes_boxed(r, q, held, out, true)
-    }
-
-    /// [`World::pose_shapes`] with each mesh hull's box its local box turned (looser, a
-    /// cuboid's cost) instead of its exact world box (a walk over its vertices: 15 % of a
-    /// mesh robot's whole compile was there). For the replay, whose boxes are only
-    /// broad-phase filters and lower bounds on distances, never a verdict.
-    pub fn pose_shapes_bounded(
-        &self,
-        r: RobotId,
-        q: &[f64],
-        held: Option<&Held>,
-        out: &mut Vec<PosedShape>,
-    ) -> Isometry3<f64> {
-        self.pose_shapes_boxed(r, q, held, out, false)
-    }
-
-    fn pose_shapes_boxed(
-        &self,
-        r: RobotId,
-        q: &[f64],
-        held: Option<&Held>,
-        out: &mut Vec<PosedShape>,
-        exact: bool,
-    ) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
         self.shape_slots(r, out);
         WORLD_LINKS.with(|cell| {
@@ -144,7 +119,7 @@ impl World {
             let flange = self.pose_links(r, q, &mut world);
             let posture = posture_of(held);
             for (si, o) in out.iter_mut().enumerate() {
-                pose_shape(m, &world, si, posture, exact, &mut o.pose, &mut o.aabb);
+                pose_shape(m, &world, si, posture, true, &mut o.pose, &mut o.aabb);
             }
             flange
         })
@@ -168,9 +143,9 @@ impl World {
         }
     }
 
-    /// The first half of [`World::pose_shapes_bounded`], for a replay that poses only the
-    /// shapes it asks about: every link's world pose at `q` into `links`; returns the
-    /// flange pose. Panics if `q.len()` is not [`World::dof`].
+    /// The first half of posing a robot for a replay that poses only the shapes it asks
+    /// about: every link's world pose at `q` into `links`; returns the flange pose. Panics
+    /// if `q.len()` is not [`World::dof`].
     pub fn pose_links(&self, r: RobotId, q: &[f64], links: &mut Vec<PPose>) -> Isometry3<f64> {
         let m = &self.robots[r.index()];
         super::robot::assert_dof(m, q);
@@ -188,8 +163,11 @@ impl World {
     }
 
     /// The second half: shape `si` of robot `r` (in the order of [`World::shape_slots`])
-    /// placed on `links` (from [`World::pose_links`]) with the fingers in `posture` (see [`posture_of`]), its box
-    /// the replay's bound, as [`World::pose_shapes_bounded`] gives it.
+    /// placed on `links` (from [`World::pose_links`]) with the fingers in `posture` (see
+    /// [`posture_of`]), its box a mesh hull's local box turned (looser, a cuboid's cost)
+    /// instead of its exact world box (a walk over its vertices: 15 % of a mesh robot's
+    /// whole compile was there). For the replay, whose boxes are only broad-phase filters
+    /// and lower bounds on distances, never a verdict.
     pub fn pose_shape_on(&self, r: RobotId, links: &[PPose], si: usize, posture: usize, out: &mut PosedShape) {
         pose_shape(&self.robots[r.index()], links, si, posture, false, &mut out.pose, &mut out.aabb);
     }
