@@ -51,6 +51,22 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn segment_steps(&self, a: &[f64], b: &[f64], step: f64) -> Option<usize> {
+        Some(crate::world::segment_steps(a, b, step, 1))
+    }
+    fn check_samples(
+        &self,
+        ends: (&[f64], &[f64]),
+        n: usize,
+        indices: &mut dyn Iterator<Item = usize>,
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> Check {
+        let c = ctx(mode);
+        let out = self.world.check_samples(self.robot, ends, n, indices, &c);
+        *checks += c.count();
+        out
+    }
     fn check_segment_known(
         &self,
         ends: (&[f64], &[f64]),

@@ -27,6 +27,33 @@ pub trait Space: Sync {
     /// Labelled check of the straight joint-space segment `a`-`b` (endpoints included),
     /// at steps no longer than `step`.
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check;
+    /// `Some(n)` where `check_segment(a, b, step)` is the labelled check of each of
+    /// `world::segment_sample(a, b, i, n)`, `i` in `0..=n` (its label the union of
+    /// theirs, blocked when one is), so that they may be checked in any order.
+    fn segment_steps(&self, _a: &[f64], _b: &[f64], _step: f64) -> Option<usize> {
+        None
+    }
+    /// The labelled checks of samples `indices` of `ends` cut into `n` steps (see
+    /// `segment_steps`), in turn, up to the first blocked one: their labels' union or it.
+    fn check_samples(
+        &self,
+        (a, b): (&[f64], &[f64]),
+        n: usize,
+        indices: &mut dyn Iterator<Item = usize>,
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> Check {
+        let mut q = a.to_vec();
+        let mut out = ObjectSet::new();
+        for i in indices {
+            crate::world::segment_sample(a, b, i, n, &mut q);
+            match self.check(&q, mode, checks) {
+                Check::Touches(l) => out.union_with(&l),
+                blocked => return blocked,
+            }
+        }
+        Check::Touches(out)
+    }
     /// `check_segment` with the ends flagged in `known` (`a`, `b`) left unchecked where a
     /// space can skip them: the caller has their checks in `mode`, neither blocked, and
     /// joins their labels to this one's for `check_segment`'s answer.

@@ -31,6 +31,7 @@ mod proximity;
 mod robot;
 mod scene;
 mod segment;
+pub(crate) use segment::{sample as segment_sample, steps as segment_steps};
 mod self_pairs;
 mod shapes;
 mod srdf;
@@ -257,6 +258,20 @@ impl World {
     /// union with the empty-hand label of the segment, less the carried object.
     pub fn check_segment_held(&self, r: RobotId, a: &[f64], b: &[f64], step: f64, ctx: &CheckCtx) -> Check {
         segment::check_segment_held(self, r, a, b, step, ctx)
+    }
+    /// The labelled checks of samples `indices` of `ends` cut into `n` steps (those of
+    /// [`World::check_segment`] at a step giving `n`), in turn, up to the first blocked:
+    /// checked level by level, several segments of a path find a block on any of them
+    /// early, and together they label each segment as `check_segment` does.
+    pub fn check_samples(
+        &self,
+        r: RobotId,
+        ends: (&[f64], &[f64]),
+        n: usize,
+        indices: &mut dyn Iterator<Item = usize>,
+        ctx: &CheckCtx,
+    ) -> Check {
+        segment::check_samples(self, r, ends, n, indices, ctx)
     }
     /// The check that certifies a motion, for the verifier and the planner alike: the
     /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every

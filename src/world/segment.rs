@@ -90,6 +90,31 @@ fn segment_coarse_to_fine(
     Check::Touches(out)
 }
 
+/// The labelled checks of samples `indices` of a -> b cut into `n` steps (see
+/// [`sample`]), in turn, up to the first blocked: the union of their labels, or that block.
+pub(crate) fn check_samples(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    n: usize,
+    indices: &mut dyn Iterator<Item = usize>,
+    ctx: &CheckCtx,
+) -> Check {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let mut q = a.to_vec();
+    let mut out = ObjectSet::new();
+    for i in indices {
+        sample(a, b, i, n, &mut q);
+        match check_parts(w, r, &q, ctx, true) {
+            Check::Blocked(bl) => return Check::Blocked(bl),
+            Check::Touches(l) => out.union_with(&l),
+        }
+    }
+    Check::Touches(out)
+}
+
 /// Samples of a segment with steps of at most `step`, each cut into `parts`.
 pub(crate) fn steps(a: &[f64], b: &[f64], step: f64, parts: usize) -> usize {
     let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
@@ -173,5 +198,87 @@ mod tests {
             sample(&a, &b, n, n, &mut p);
             proptest::prop_assert_eq!(&p, &b);
         }
+    }
+
+    /// On shipped examples with objects, random segments with random objects absent: the
+    /// checks of every sample of the segment, in a shuffled order and a few at a time (as
+    /// the lazy search walks a path's edges level by level), come to `check_segment`'s
+    /// answer, blocked or the same labels. Of the 360 cases 171 are blocked, 29 touch
+    /// objects and 160 touch nothing, so each kind of answer is compared (leaving out
+    /// the union of the samples' labels fails it: checked).
+    #[test]
+    fn samples_checked_in_any_order_label_the_segment_as_its_check() {
+        use rand::seq::SliceRandom;
+        use rand::{RngExt, SeedableRng};
+        let (mut blocked, mut touching, mut free) = (0, 0, 0);
+        for name in ["cans_5", "clutter", "shelf"] {
+            let w = crate::world::test_arms::example(name);
+            let objects = w.scenario().objects.len();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+            for ri in 0..w.scenario().robots.len() {
+                let r = RobotId(ri as u32);
+                let limits = w.limits(r).to_vec();
+                for case in 0..60 {
+                    // Every other segment starts where the arm touches an object (found by
+                    // drawing): random configurations mostly hit the table or nothing.
+                    let draw = |rng: &mut rand_chacha::ChaCha8Rng| -> Vec<f64> {
+                        limits.iter().map(|(lo, hi)| rng.random_range(*lo..=*hi)).collect()
+                    };
+                    let mut a = draw(&mut rng);
+                    for _ in 0..400 {
+                        if case % 2 == 1
+                            || matches!(w.check(r, &a, &CheckCtx::new()), Check::Touches(l) if !l.is_empty())
+                        {
+                            break;
+                        }
+                        a = draw(&mut rng);
+                    }
+                    let b: Vec<f64> = a
+                        .iter()
+                        .zip(&limits)
+                        .map(|(v, (lo, hi))| (v + rng.random_range(-0.3..=0.3)).clamp(*lo, *hi))
+                        .collect();
+                    let mut absent = ObjectSet::new();
+                    for o in 0..objects {
+                        if rng.random_bool(0.3) {
+                            absent.insert(crate::resolve::ObjectId(o as u32));
+                        }
+                    }
+                    let ctx = CheckCtx::with_absent(absent);
+                    let step = 2f64.to_radians();
+                    let whole = w.check_segment(r, &a, &b, step, &ctx);
+                    let n = steps(&a, &b, step, 1);
+                    let mut order: Vec<usize> = (0..=n).collect();
+                    order.shuffle(&mut rng);
+                    let mut label = ObjectSet::new();
+                    let mut any_blocked = false;
+                    for part in order.chunks(5) {
+                        match w.check_samples(r, (&a, &b), n, &mut part.iter().copied(), &ctx) {
+                            Check::Touches(l) => label.union_with(&l),
+                            Check::Blocked(_) => {
+                                any_blocked = true;
+                                break;
+                            }
+                        }
+                    }
+                    match whole {
+                        Check::Blocked(_) => {
+                            assert!(any_blocked, "{name}: {a:?} -> {b:?}");
+                            blocked += 1;
+                        }
+                        Check::Touches(l) => {
+                            assert!(!any_blocked, "{name}: {a:?} -> {b:?}");
+                            assert_eq!(label, l, "{name}: {a:?} -> {b:?}");
+                            if l.is_empty() {
+                                free += 1;
+                            } else {
+                                touching += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(blocked > 20 && touching > 10 && free > 20, "{blocked} blocked, {touching} touching, {free} free");
     }
 }

@@ -5,8 +5,9 @@ use std::collections::{HashMap, HashSet};
 
 use rayon::prelude::*;
 
-use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node, State};
-use super::super::search::{fewest_removals, fewest_vertices, Found, Len};
+use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node, Rule, State};
+use super::super::mask::Mask;
+use super::super::search::{fewest_removals, fewest_vertices, Found, Lab, Len};
 use super::super::space::{Mode, Space};
 use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
@@ -124,6 +125,8 @@ impl<S: Space> RobotPlanner<S> {
         // Each goal's answer on its current labels; re-searched only when they change.
         let mut found: Vec<Option<Found>> = built.par_iter().map(search).collect();
         let mut dirty = vec![false; built.len()];
+        // Edges partly walked by an earlier search of this round (see `eval_until_spoilt`).
+        let mut walks: HashMap<LabelKey, Walk> = HashMap::new();
         loop {
             let stale: Vec<usize> = (0..built.len()).filter(|&i| dirty[i]).collect();
             let fresh: Vec<Option<Found>> = stale.par_iter().map(|&i| search(&built[i])).collect();
@@ -146,22 +149,28 @@ impl<S: Space> RobotPlanner<S> {
                     .unwrap_or_default(),
                 Objective::FewestVertices => (0..built.len()).collect(),
             };
-            // Unknown items on the chosen paths.
+            // Unknown items on the chosen paths, from the paths' two ends inwards (see
+            // `Stakes`), each with what its path took it to cost.
             let mut wanted: Vec<LabelKey> = Vec::new();
+            let mut stakes = Stakes::default();
             let mut seen = HashSet::new();
             for &i in &chosen {
                 let (b, Some(f)) = (&built[i], &found[i]) else { continue };
-                for &v in &f.verts {
-                    if !b.g.vlab()[v as usize].is_known() && seen.insert(b.vkey[v as usize]) {
-                        wanted.push(b.vkey[v as usize]);
+                // Under `fewest_removals` a label beyond the path's set changes its key too.
+                let set = (objective == Objective::FewestRemovals).then_some(&f.set);
+                let mut items = Vec::with_capacity(f.verts.len() + f.edges.len());
+                for (k, &v) in f.verts.iter().enumerate() {
+                    if !b.g.vlab()[v as usize].is_known() {
+                        items.push((b.vkey[v as usize], b.vrule[v as usize]));
+                    }
+                    if let Some(&e) = f.edges.get(k).filter(|&&e| !b.g.elab()[e as usize].is_known()) {
+                        items.push((b.ekey[e as usize].expect("unknown edges have keys"), b.erule[e as usize]));
                     }
                 }
-                for &e in &f.edges {
-                    if !b.g.elab()[e as usize].is_known() {
-                        let k = b.ekey[e as usize].expect("unknown edges have keys");
-                        if seen.insert(k) {
-                            wanted.push(k);
-                        }
+                for (k, rule) in ends_inwards(items) {
+                    stakes.add(k, rule, set);
+                    if seen.insert(k) {
+                        wanted.push(k);
                     }
                 }
             }
@@ -226,25 +235,27 @@ impl<S: Space> RobotPlanner<S> {
                 },
                 checks,
             );
-            let results: Vec<(Option<ObjectSet>, u64)> = jobs
-                .par_iter()
-                .map(|j| {
-                    let mut c = 0;
-                    let l = self.eval(j, Pass::Coarse, &mut c);
-                    (l, c)
-                })
-                .collect();
+            // Checked up to the first that spoils its path (see `Stakes`); none when an
+            // item another query labelled already does: the search runs again first.
+            let spoilt = known.iter().any(|(k, l)| stakes.spoilt_by(k, l));
+            let results = match spoilt {
+                true => Vec::new(),
+                false => {
+                    let (results, spent) = self.eval_until_spoilt(&jobs, &stakes, &mut walks);
+                    *checks += spent;
+                    results
+                }
+            };
             self.lock(
                 |s| {
-                    for (j, (l, _)) in jobs.iter().zip(&results) {
-                        store(s, j.item, l.clone());
+                    for (i, l) in &results {
+                        store(s, jobs[*i].item, l.clone());
                     }
                 },
                 checks,
             );
-            for (j, (l, c)) in jobs.iter().zip(results) {
-                *checks += c;
-                known.insert(j.item, l);
+            for (i, l) in results {
+                known.insert(jobs[i].item, l);
             }
             for ((b, f), d) in built.iter_mut().zip(&found).zip(dirty.iter_mut()) {
                 let Some(f) = f else { continue };
@@ -268,6 +279,83 @@ impl<S: Space> RobotPlanner<S> {
                 }
             }
         }
+    }
+
+    /// Labels `jobs` up to the first that spoils its path (see [`Stakes`]): the labels
+    /// found, by job index, and the checks spent. The jobs other than plain edges first,
+    /// in their order, in chunks of 1, 2, 4, ...; then the plain edges together, level by
+    /// level (see [`Walk`]), each edge's level checked in turn and left at its first
+    /// blocked sample. An edge left partly walked keeps its walk in `walks` for the
+    /// round's next search. The same checks whatever the thread count.
+    fn eval_until_spoilt(
+        &self,
+        jobs: &[Job],
+        stakes: &Stakes,
+        walks: &mut HashMap<LabelKey, Walk>,
+    ) -> (Vec<(usize, Option<ObjectSet>)>, u64) {
+        let res = self.settings.resolution;
+        let (mut out, mut spent) = (Vec::with_capacity(jobs.len()), 0);
+        let mut walking: Vec<(usize, Walk)> = Vec::new();
+        let mut others: Vec<usize> = Vec::new();
+        for (i, j) in jobs.iter().enumerate() {
+            let walk = match (&j.b, &j.grasp, &j.empty) {
+                (Some(b), None, None) => {
+                    walks.remove(&j.item).or_else(|| Some(Walk::new(&j.a, b, self.space.segment_steps(&j.a, b, res)?)))
+                }
+                _ => None,
+            };
+            match walk {
+                Some(w) => walking.push((i, w)),
+                None => others.push(i),
+            }
+        }
+        let mut chunk = 1;
+        let mut at = 0;
+        let mut spoilt = false;
+        while at < others.len() && !spoilt {
+            let part = &others[at..(at + chunk).min(others.len())];
+            let done: Vec<(Option<ObjectSet>, u64)> = part
+                .par_iter()
+                .map(|&i| {
+                    let mut c = 0;
+                    (self.eval(&jobs[i], Pass::Coarse, &mut c), c)
+                })
+                .collect();
+            for (&i, (l, c)) in part.iter().zip(done) {
+                spoilt |= stakes.spoilt_by(&jobs[i].item, &l);
+                spent += c;
+                out.push((i, l));
+            }
+            at += part.len();
+            chunk *= 2;
+        }
+        while !walking.is_empty() && !spoilt {
+            let done: Vec<(bool, u64)> = walking
+                .par_iter_mut()
+                .map(|(i, w)| {
+                    let mut c = 0;
+                    let blocked = w.step(&self.space, &jobs[*i].mode, &mut c);
+                    (blocked, c)
+                })
+                .collect();
+            let mut left = Vec::with_capacity(walking.len());
+            for ((i, w), (blocked, c)) in walking.into_iter().zip(done) {
+                spent += c;
+                let l = match (blocked, w.done()) {
+                    (true, _) => None,
+                    (false, true) => Some(w.label),
+                    (false, false) => {
+                        left.push((i, w));
+                        continue;
+                    }
+                };
+                spoilt |= stakes.spoilt_by(&jobs[i].item, &l);
+                out.push((i, l));
+            }
+            walking = left;
+        }
+        walks.extend(walking.into_iter().map(|(i, w)| (jobs[i].item, w)));
+        (out, spent)
     }
 
     /// Re-checks the segments of a path that only have a coarse label with the fine
@@ -319,3 +407,85 @@ impl<S: Space> RobotPlanner<S> {
         )
     }
 }
+
+/// What each unknown item of the chosen paths was taken to cost: its label's rule in
+/// each path, and under `fewest_removals` that path's set. Unknown labels are lower
+/// bounds, so a path stays the search's answer while every item checked comes out
+/// within its set; an item blocked, or touching more, spoils it, and the items after it
+/// need not be checked before the search runs again (on a narrow passage's roadmap most
+/// paths fail at one edge, and checking the free edges on the way there was most of a
+/// round's search). The items other than plain edges are checked from the path's two
+/// ends inwards, the start's first (on the shipped examples fewer checks than in the
+/// path's order or from the goal's end); the plain edges all together (see [`Walk`]).
+#[derive(Default)]
+struct Stakes(Vec<(LabelKey, Rule, Option<Mask>)>);
+
+impl Stakes {
+    fn add(&mut self, k: LabelKey, rule: Rule, set: Option<&Mask>) {
+        self.0.push((k, rule, set.cloned()));
+    }
+    /// A path's items are tens at most: a scan costs less than hashing.
+    fn spoilt_by(&self, k: &LabelKey, l: &Option<ObjectSet>) -> bool {
+        self.0.iter().filter(|(key, _, _)| key == k).any(|(_, rule, set)| match rule.known(l.as_ref()) {
+            Lab::Blocked => true,
+            Lab::Known(m) | Lab::Unknown(m) => set.as_ref().is_some_and(|s| !m.is_subset(s)),
+        })
+    }
+}
+
+/// `items` reordered first, last, second, second to last, ...
+fn ends_inwards<T>(items: Vec<T>) -> impl Iterator<Item = T> {
+    let mut items: std::collections::VecDeque<T> = items.into();
+    let mut front = true;
+    std::iter::from_fn(move || {
+        front = !front;
+        match front {
+            false => items.pop_front(),
+            true => items.pop_back(),
+        }
+    })
+}
+
+/// An edge's samples being checked level by level: those inside coarse to fine (level
+/// `k` halving the gaps the levels before it left, as `check_segment` goes), then its
+/// two ends. A segment blocked anywhere is found after about as many checks as its own
+/// check would take, whichever edge of a path it is, and every sample is checked once.
+struct Walk {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    /// The segment's steps: samples `0..=n` (see `world::segment_sample`).
+    n: usize,
+    /// The next level's stride; 0 for the ends, `usize::MAX` once they are checked.
+    stride: usize,
+    /// The labels of the samples checked.
+    label: ObjectSet,
+}
+
+impl Walk {
+    fn new(a: &[f64], b: &[f64], n: usize) -> Walk {
+        let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
+        Walk { a: a.to_vec(), b: b.to_vec(), n, stride: top / 2, label: ObjectSet::new() }
+    }
+    fn done(&self) -> bool {
+        self.stride == usize::MAX
+    }
+    /// Checks the next level's samples in turn (see `Space::check_samples`); true at
+    /// the first blocked one.
+    fn step<S: Space>(&mut self, space: &S, mode: &Mode, checks: &mut u64) -> bool {
+        let (n, s) = (self.n, self.stride);
+        let c = match s {
+            0 => space.check_samples((&self.a, &self.b), n, &mut [0, n].into_iter(), mode, checks),
+            _ => space.check_samples((&self.a, &self.b), n, &mut (s..n).step_by(2 * s), mode, checks),
+        };
+        match c {
+            Check::Touches(l) => self.label.union_with(&l),
+            Check::Blocked(_) => return true,
+        }
+        self.stride = if s == 0 { usize::MAX } else { s / 2 };
+        false
+    }
+}
+
+#[cfg(test)]
+#[path = "lazy_tests.rs"]
+mod tests;

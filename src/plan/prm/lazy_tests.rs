@@ -1,0 +1,92 @@
+//! The walk of an edge's samples level by level.
+
+use std::sync::Mutex;
+
+use super::*;
+use crate::world::{Config, GraspConfig, Held};
+
+/// One joint from 0 to `n` in steps of 1: sample `i` is the configuration `[i]`; the
+/// checks are recorded, and the one at `blocked` (if any) is blocked.
+struct Line {
+    seen: Mutex<Vec<usize>>,
+    blocked: Option<usize>,
+}
+
+impl Space for Line {
+    fn dof(&self) -> usize {
+        1
+    }
+    fn limits(&self) -> &[(f64, f64)] {
+        &[(0.0, 1e6)]
+    }
+    fn check(&self, q: &[f64], _: &Mode, checks: &mut u64) -> Check {
+        *checks += 1;
+        let i = q[0].round() as usize;
+        self.seen.lock().unwrap_or_else(|p| p.into_inner()).push(i);
+        match self.blocked == Some(i) {
+            true => Check::Blocked(crate::world::Blocker::JointLimit { joint: "j".into(), value: q[0] }),
+            false => Check::free(),
+        }
+    }
+    fn check_segment(&self, _: &[f64], _: &[f64], _: f64, _: &Mode, _: &mut u64) -> Check {
+        Check::free()
+    }
+    fn home(&self) -> &[f64] {
+        &[0.0]
+    }
+    fn drop_config(&self) -> &[f64] {
+        &[0.0]
+    }
+    fn grasps(&self, _: ObjectId) -> Vec<GraspConfig> {
+        vec![GraspConfig { grasp: 0, q_grasp: Config(vec![0.0]), q_pregrasp: Config(vec![0.0]) }]
+    }
+    fn held(&self, o: ObjectId, _: usize, _: &[f64]) -> Held {
+        Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }
+    }
+}
+
+/// A walk checks every sample of its segment once, the inside ones coarse to fine (the
+/// first at the middle power of two, as `check_segment` goes), the ends last.
+#[test]
+fn a_walk_checks_every_sample_once_coarse_to_fine_and_the_ends_last() {
+    for n in 1..=300usize {
+        let space = Line { seen: Mutex::new(Vec::new()), blocked: None };
+        let mut w = Walk::new(&[0.0], &[n as f64], n);
+        let (mut checks, mut levels) = (0, 0);
+        while !w.done() {
+            assert!(!w.step(&space, &Mode::default(), &mut checks));
+            levels += 1;
+        }
+        let seen = space.seen.into_inner().unwrap_or_else(|p| p.into_inner());
+        let mut sorted = seen.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..=n).collect::<Vec<_>>(), "n = {n}");
+        assert_eq!(checks as usize, n + 1);
+        assert_eq!(&seen[n - 1..], &[0, n], "n = {n}: the ends last");
+        if n >= 2 {
+            assert_eq!(seen[0], n.next_power_of_two() / 2, "n = {n}: the middle first");
+        }
+        // One level per halving of the stride, and one for the ends.
+        assert_eq!(levels, n.next_power_of_two().trailing_zeros() as usize + 1, "n = {n}");
+    }
+}
+
+/// A blocked sample ends its level's checks there: the walk says blocked, and no sample
+/// after it is checked.
+#[test]
+fn a_walk_stops_at_a_blocked_sample() {
+    let n = 100;
+    let space = Line { seen: Mutex::new(Vec::new()), blocked: Some(48) };
+    let mut w = Walk::new(&[0.0], &[n as f64], n);
+    let mut checks = 0;
+    let mut steps = 0;
+    while !w.step(&space, &Mode::default(), &mut checks) {
+        steps += 1;
+        assert!(!w.done());
+    }
+    // Strides 64 (64) and 32 (32, 96) pass; stride 16 checks 16, then 48: blocked.
+    assert_eq!(steps, 2);
+    let seen = space.seen.into_inner().unwrap_or_else(|p| p.into_inner());
+    assert_eq!(seen, vec![64, 32, 96, 16, 48]);
+    assert_eq!(checks, 5);
+}
