@@ -62,30 +62,42 @@ fn segment_coarse_to_fine(
     ctx: &CheckCtx,
     (robot_part, (known_a, known_b)): (bool, (bool, bool)),
 ) -> Check {
+    let n = steps(a, b, step, parts);
+    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
+    let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
+    let strides = std::iter::successors(Some(top), |&s| (s > 1).then_some(s / 2));
+    // Per stride, the multiples of it not already visited as multiples of twice it.
+    let indices = strides
+        .flat_map(move |s| match s == top {
+            true => (0..=n).step_by(s),
+            false => (s..=n).step_by(2 * s),
+        })
+        .filter(|&i| !((parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n)));
+    label_samples(w, r, (a, b), n, indices, ctx, robot_part)
+}
+
+/// The checks (the robot's own bodies too when `robot_part`) of samples `indices` of a ->
+/// b cut into `n` steps, in turn, up to the first blocked: their labels' union or that block.
+fn label_samples(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    n: usize,
+    indices: impl Iterator<Item = usize>,
+    ctx: &CheckCtx,
+    robot_part: bool,
+) -> Check {
     let m = &w.robots[r.index()];
     assert_dof(m, a);
     assert_dof(m, b);
-    let n = steps(a, b, step, parts);
     let mut q = a.to_vec();
     let mut out = ObjectSet::new();
-    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
-    let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
-    let mut stride = top;
-    while stride > 0 {
-        // Multiples of `stride` not already visited as multiples of `2 * stride`.
-        let first = if stride == top { 0 } else { stride };
-        let by = if stride == top { stride } else { 2 * stride };
-        for i in (first..=n).step_by(by) {
-            if (parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n) {
-                continue;
-            }
-            sample(a, b, i, n, &mut q);
-            match check_parts(w, r, &q, ctx, robot_part) {
-                Check::Blocked(bl) => return Check::Blocked(bl),
-                Check::Touches(l) => out.union_with(&l),
-            }
+    for i in indices {
+        sample(a, b, i, n, &mut q);
+        match check_parts(w, r, &q, ctx, robot_part) {
+            Check::Blocked(bl) => return Check::Blocked(bl),
+            Check::Touches(l) => out.union_with(&l),
         }
-        stride /= 2;
     }
     Check::Touches(out)
 }
@@ -95,24 +107,12 @@ fn segment_coarse_to_fine(
 pub(crate) fn check_samples(
     w: &World,
     r: RobotId,
-    (a, b): (&[f64], &[f64]),
+    ends: (&[f64], &[f64]),
     n: usize,
     indices: &mut dyn Iterator<Item = usize>,
     ctx: &CheckCtx,
 ) -> Check {
-    let m = &w.robots[r.index()];
-    assert_dof(m, a);
-    assert_dof(m, b);
-    let mut q = a.to_vec();
-    let mut out = ObjectSet::new();
-    for i in indices {
-        sample(a, b, i, n, &mut q);
-        match check_parts(w, r, &q, ctx, true) {
-            Check::Blocked(bl) => return Check::Blocked(bl),
-            Check::Touches(l) => out.union_with(&l),
-        }
-    }
-    Check::Touches(out)
+    label_samples(w, r, ends, n, indices, ctx, true)
 }
 
 /// Samples of a segment with steps of at most `step`, each cut into `parts`.
