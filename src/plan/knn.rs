@@ -58,15 +58,7 @@ impl GrowingIndex {
         skip: impl Fn(u32) -> bool,
         seed: Option<usize>,
     ) -> usize {
-        while n - self.held >= RUN {
-            let (mut start, end) = (self.held, self.held + RUN);
-            while self.trees.last().is_some_and(|t| t.len() == end - start) {
-                start = self.trees.pop().map_or(start, |t| t.offset as usize);
-            }
-            let flat: Vec<f64> = (start..end).flat_map(|i| point(i).iter().copied()).collect();
-            self.trees.push(KdTree::build_run(dim, flat, start as u32));
-            self.held = end;
-        }
+        self.catch_up(dim, n, &point);
         let mut best = match seed.filter(|&i| i < n && !skip(i as u32)) {
             Some(i) => (dist2(point(i), q), i as u32),
             None => (f64::INFINITY, u32::MAX),
@@ -86,6 +78,36 @@ impl GrowingIndex {
             }
         }
         best.1
+    }
+
+    /// The `k` points nearest `q` among the first `n` (as [`Self::nearest`]'s), nearest
+    /// first, ties to the lower index; all of them when there are fewer.
+    pub(crate) fn k_nearest<'a>(
+        &mut self,
+        dim: usize,
+        n: usize,
+        point: impl Fn(usize) -> &'a [f64],
+        q: &[f64],
+        k: usize,
+    ) -> Vec<usize> {
+        self.catch_up(dim, n, &point);
+        let mut all: Vec<(f64, u32)> = self.trees.iter().flat_map(|t| t.nearest(q, k, |_| false)).collect();
+        all.extend((self.held..n).map(|i| (dist2(point(i), q), i as u32)));
+        all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        all.into_iter().take(k).map(|(_, i)| i as usize).collect()
+    }
+
+    /// Builds the k-d trees of the full runs of `RUN` points among the first `n`.
+    fn catch_up<'a>(&mut self, dim: usize, n: usize, point: &impl Fn(usize) -> &'a [f64]) {
+        while n - self.held >= RUN {
+            let (mut start, end) = (self.held, self.held + RUN);
+            while self.trees.last().is_some_and(|t| t.len() == end - start) {
+                start = self.trees.pop().map_or(start, |t| t.offset as usize);
+            }
+            let flat: Vec<f64> = (start..end).flat_map(|i| point(i).iter().copied()).collect();
+            self.trees.push(KdTree::build_run(dim, flat, start as u32));
+            self.held = end;
+        }
     }
 }
 
@@ -484,6 +506,28 @@ mod tests {
             assert_eq!(largest, 512, "runs merged into one tree of 16");
             let sizes: Vec<usize> = index.trees.iter().map(KdTree::len).collect();
             assert_eq!(sizes, [512, 256, 128, 64, 32], "992 = 31 runs, one tree per bit");
+        }
+    }
+
+    /// The `k` nearest of a set grown a point at a time (on a coarse grid, so that
+    /// distances tie), k from 1 to past the set: a linear scan's, nearest first, ties to
+    /// the lower index, in the trees and the scanned tail alike.
+    #[test]
+    fn growing_index_k_nearest_matches_linear_scan() {
+        for dim in [3, 6] {
+            let mut rnd = grid_draws(99 + dim as u64);
+            let pts: Vec<Vec<f64>> = (0..300).map(|_| (0..dim).map(|_| rnd(3) as f64).collect()).collect();
+            let mut index = GrowingIndex::default();
+            for n in 1..=pts.len() {
+                let q: Vec<f64> = (0..dim).map(|_| rnd(3) as f64).collect();
+                let k = [1, 5, 16, 40][n % 4];
+                let got = index.k_nearest(dim, n, |i| &pts[i], &q, k);
+                let mut want: Vec<usize> = (0..n).collect();
+                want.sort_by(|&a, &b| dist2(&pts[a], &q).total_cmp(&dist2(&pts[b], &q)).then(a.cmp(&b)));
+                want.truncate(k);
+                assert_eq!(got, want, "dim {dim} n {n} k {k}");
+            }
+            assert!(index.held >= 288, "the trees were searched");
         }
     }
 }

@@ -263,8 +263,8 @@ const BEHIND: [f64; 3] = [0.8, -0.7, -0.7];
 /// goal touches the door.
 #[test]
 fn the_free_trees_find_the_hole_and_never_the_door() {
-    // (Seeds 0 to 7 find it in 158 to 11 952 attempts.)
-    let p = slit_planner(0.06, 5000, 1);
+    // (Seeds 0 to 7 find it in 23 to 24 670 attempts; aiming alike, 158 to 11 952.)
+    let p = slit_planner(0.06, 5000, 3);
     let t0 = std::time::Instant::now();
     let mut checks = 0;
     let free = |p: &RobotPlanner<Slit>, goals: &[&[f64]], c: &mut u64| {
@@ -282,11 +282,11 @@ fn the_free_trees_find_the_hole_and_never_the_door() {
     }
     // It crossed the wall, so through the hole (the door touches object 0).
     let crossed = path.windows(2).any(|w| (w[0][0] < 0.0) != (w[1][0] < 0.0));
-    assert!(crossed && search.attempted == 438, "{} attempts", search.attempted);
+    assert!(crossed && search.attempted == 113, "{} attempts", search.attempted);
     // Only the steps of the trees that the shortened path keeps were certified: here one
     // of its three moves (certifying the whole chain first took 15).
     assert_eq!((search.certified_steps(), path.len()), (1, 4));
-    let again = free(&slit_planner(0.06, 5000, 1), &[&BEHIND], &mut 0).and_then(|mut s| s.grow(&p, 20_000, t0, &mut 0));
+    let again = free(&slit_planner(0.06, 5000, 3), &[&BEHIND], &mut 0).and_then(|mut s| s.grow(&p, 20_000, t0, &mut 0));
     assert_eq!(again.as_ref().map(|a| &a.0), Some(&path));
     // A goal in the door is left out; with no other, there is no search.
     let in_door = [0.0, 0.8, 0.0];
@@ -361,8 +361,11 @@ const POCKET: [f64; 3] = [0.15, 0.05, -0.05];
 /// A goal in a pocket (behind the wall only a box 0.2 deep and 0.6 wide, entered through
 /// a hole 0.08 wide): taking turns, its tree stays at tens of nodes while the start's
 /// fills its half with thousands; handing the small tree the extensions (see
-/// `connect::BALANCE`) finds the hole in 17 729 attempts over seeds 0..8 against
-/// 103 237, every path clear at the certifying resolution.
+/// `connect::BALANCE`) finds the hole in 47 784 attempts over seeds 0..8 against
+/// 102 989, every path clear at the certifying resolution. Both aim alike in every joint
+/// (see `FreeConnect::aiming_alike`): this is the balance's test. (At a balance of 4,
+/// 17 729; aiming along the spread, which the balance of 2 is for, 38 908 balanced and
+/// 38 299 taking turns: in this pocket, as wide as it is deep, the spread shows no way.)
 #[test]
 fn a_goal_in_a_pocket_gets_the_extensions() {
     let t0 = std::time::Instant::now();
@@ -374,6 +377,7 @@ fn a_goal_in_a_pocket_gets_the_extensions() {
             let p = RobotPlanner::new(space, &settings, &PrmOptions::default(), 0);
             let search = super::connect::FreeConnect::new(&p, p.space().home(), &[&POCKET], Mode::default(), &mut 0)
                 .expect("home and goal are free");
+            let search = search.aiming_alike();
             let mut search = if balance { search } else { search.taking_turns() };
             let (path, _) = search.grow(&p, 100_000, t0, &mut 0).expect("a path into the pocket");
             for w in path.windows(2) {
@@ -391,7 +395,7 @@ fn a_goal_in_a_pocket_gets_the_extensions() {
         }
     }
     assert!(lopsided > 0, "taking turns never left the pocket's tree behind: the test shows nothing");
-    assert!(3 * balanced < turns, "{balanced} attempts balanced, {turns} taking turns");
+    assert!(2 * balanced < turns, "{balanced} attempts balanced, {turns} taking turns");
 }
 
 /// Steps of 0.02 from [`POCKET`] to `to`, in a straight line.
@@ -436,8 +440,8 @@ fn a_clear_escape_line_leads_out_of_a_pocket_and_a_blocked_one_changes_nothing()
 }
 
 /// Configuration queries whose roadmap, at 1000 samples, finds only the door (a hole of
-/// 8 cm square in a 2 m wall): with the free-space trees beside it, 6 of 8 seeds remove
-/// nothing (without them, none did; 47 of seeds 0..64), along paths clear at the
+/// 8 cm square in a 2 m wall): with the free-space trees beside it, 5 of 8 seeds remove
+/// nothing (without them, none did; 46 of seeds 0..64), along paths clear at the
 /// certifying resolution.
 #[test]
 fn configuration_queries_go_through_the_hole_not_the_door() {
@@ -455,7 +459,7 @@ fn configuration_queries_go_through_the_hole_not_the_door() {
             }
         }
     }
-    assert_eq!(free, 6);
+    assert_eq!(free, 5);
 }
 
 /// A wall with a narrow hole and no door, so nothing can label a path: where the space
@@ -490,7 +494,7 @@ fn without_objects_the_free_trees_search_first_and_spend_less() {
 
 /// Where the space holds objects, a first-round roadmap that finds no path hands over to
 /// the free trees before the goal trees grow: of seeds 0..8 through the narrow hole, the
-/// six queries answered in round 1 leave every goal tree ungrown (in the order before,
+/// five queries answered in round 1 leave every goal tree ungrown (in the order before,
 /// the goal trees grew first and the round's roadmap was searched again).
 #[test]
 fn in_the_first_rounds_the_free_trees_come_before_the_goal_trees() {
@@ -507,7 +511,7 @@ fn in_the_first_rounds_the_free_trees_come_before_the_goal_trees() {
             assert_eq!(grown, Some(0), "seed {seed}: a goal tree grew before the free trees got through");
         }
     }
-    assert_eq!(answered_in_round_1, 6, "of 8 answered in round 1");
+    assert_eq!(answered_in_round_1, 5, "of 8 answered in round 1");
 }
 
 /// A wall with no hole and no door: the query gives up having spent both budgets, the
