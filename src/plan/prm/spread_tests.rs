@@ -4,7 +4,7 @@
 use super::super::super::space::{Mode, Space};
 use super::super::{PrmOptions, RobotPlanner};
 use crate::resolve::{ObjectId, PlannerSettings};
-use crate::world::{Check, GraspConfig, Held, ObjectSet};
+use crate::world::{Check, GraspConfig, Held};
 
 /// Six joints in [-1, 1]. Free: the half where `q0 <= 0` (the start's) and, beyond it, a
 /// slab where joints 3 to 5 stay within `thin` of 0 and joints 0 to 2 are free (as an
@@ -39,17 +39,7 @@ impl Space for Slab {
         self.at(q)
     }
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, _: &Mode, checks: &mut u64) -> Check {
-        let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
-        let n = (span / step).ceil().max(1.0) as usize;
-        for i in 0..=n {
-            let t = i as f64 / n as f64;
-            let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
-            *checks += 1;
-            if let blocked @ Check::Blocked(_) = self.at(&q) {
-                return blocked;
-            }
-        }
-        Check::Touches(ObjectSet::new())
+        super::super::tests::check_segment_by(a, b, step, checks, |q| self.at(q))
     }
     fn home(&self) -> &[f64] {
         &self.home

@@ -210,19 +210,7 @@ impl Space for Slit {
         self.at(q)
     }
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, _: &Mode, checks: &mut u64) -> Check {
-        let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
-        let n = (span / step).ceil().max(1.0) as usize;
-        let mut out = ObjectSet::new();
-        for i in 0..=n {
-            let t = i as f64 / n as f64;
-            let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
-            *checks += 1;
-            match self.at(&q) {
-                Check::Touches(l) => out.union_with(&l),
-                blocked => return blocked,
-            }
-        }
-        Check::Touches(out)
+        check_segment_by(a, b, step, checks, |q| self.at(q))
     }
     fn home(&self) -> &[f64] {
         &self.home
@@ -248,6 +236,30 @@ impl Space for Slit {
             Vec::new()
         }
     }
+}
+
+/// A test space's segment check: samples no farther apart than `step` in any joint, the
+/// ends included, checked by `at` from `a` on; the first block, else the labels' union.
+pub(super) fn check_segment_by(
+    a: &[f64],
+    b: &[f64],
+    step: f64,
+    checks: &mut u64,
+    at: impl Fn(&[f64]) -> Check,
+) -> Check {
+    let span = a.iter().zip(b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
+    let n = (span / step).ceil().max(1.0) as usize;
+    let mut out = ObjectSet::new();
+    for i in 0..=n {
+        let t = i as f64 / n as f64;
+        let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
+        *checks += 1;
+        match at(&q) {
+            Check::Touches(l) => out.union_with(&l),
+            blocked => return blocked,
+        }
+    }
+    Check::Touches(out)
 }
 
 fn slit_planner(hole: f64, max_samples: usize, seed: u64) -> RobotPlanner<Slit> {
