@@ -59,7 +59,7 @@ pub(super) const PER_SAMPLE_FEWER: u64 = 16;
 /// slit tests, 47 of 64 seeds against 42 with strict balance). With aims along the
 /// spread (see [`SPREAD_SCALE`]) the goals' tree grows where it used to be trapped, and
 /// 2 did better than 4 or 3 (the UR5's `narrow_gap` at seeds 1-3: checks' 95th
-/// percentile 74 k against 136 k and 122 k) and about as well as 1 (74 k).
+/// percentile 74 k against 115 k and 122 k) and about as well as 1 (74 k).
 const BALANCE: usize = 2;
 /// Nodes whose spread shapes a local aim of the goals' tree (see [`Tree::spread`]).
 const SPREAD_NEIGHBOURS: usize = 16;
