@@ -271,7 +271,7 @@ impl World {
         indices: &mut dyn Iterator<Item = usize>,
         ctx: &CheckCtx,
     ) -> Check {
-        segment::check_samples(self, r, ends, n, indices, ctx)
+        segment::label_samples(self, r, ends, n, indices, ctx, true)
     }
     /// The check that certifies a motion, for the verifier and the planner alike: the
     /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every

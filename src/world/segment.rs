@@ -78,7 +78,7 @@ fn segment_coarse_to_fine(
 
 /// The checks (the robot's own bodies too when `robot_part`) of samples `indices` of a ->
 /// b cut into `n` steps, in turn, up to the first blocked: their labels' union or that block.
-fn label_samples(
+pub(super) fn label_samples(
     w: &World,
     r: RobotId,
     (a, b): (&[f64], &[f64]),
@@ -100,19 +100,6 @@ fn label_samples(
         }
     }
     Check::Touches(out)
-}
-
-/// The labelled checks of samples `indices` of a -> b cut into `n` steps (see
-/// [`sample`]), in turn, up to the first blocked: the union of their labels, or that block.
-pub(crate) fn check_samples(
-    w: &World,
-    r: RobotId,
-    ends: (&[f64], &[f64]),
-    n: usize,
-    indices: &mut dyn Iterator<Item = usize>,
-    ctx: &CheckCtx,
-) -> Check {
-    label_samples(w, r, ends, n, indices, ctx, true)
 }
 
 /// Samples of a segment with steps of at most `step`, each cut into `parts`.
