@@ -63,17 +63,21 @@ fn segment_coarse_to_fine(
     (robot_part, (known_a, known_b)): (bool, (bool, bool)),
 ) -> Check {
     let n = steps(a, b, step, parts);
-    // Sample 0 comes first: a non-finite end is blocked by the limits check at once.
+    let indices =
+        coarse_to_fine(n).filter(|&i| !((parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n)));
+    label_samples(w, r, (a, b), n, indices, ctx, robot_part)
+}
+
+/// `0..=n` coarse to fine: sample 0 first (a non-finite end is blocked by the limits
+/// check at once), then `n` and the multiples of the largest power of two, then per
+/// smaller stride the multiples of it not already visited as multiples of twice it.
+pub(super) fn coarse_to_fine(n: usize) -> impl Iterator<Item = usize> {
     let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
     let strides = std::iter::successors(Some(top), |&s| (s > 1).then_some(s / 2));
-    // Per stride, the multiples of it not already visited as multiples of twice it.
-    let indices = strides
-        .flat_map(move |s| match s == top {
-            true => (0..=n).step_by(s),
-            false => (s..=n).step_by(2 * s),
-        })
-        .filter(|&i| !((parts > 1 && i % parts == 0) || (known_a && i == 0) || (known_b && i == n)));
-    label_samples(w, r, (a, b), n, indices, ctx, robot_part)
+    strides.flat_map(move |s| match s == top {
+        true => (0..=n).step_by(s),
+        false => (s..=n).step_by(2 * s),
+    })
 }
 
 /// The checks (the robot's own bodies too when `robot_part`) of samples `indices` of a ->
@@ -185,6 +189,20 @@ mod tests {
             sample(&a, &b, n, n, &mut p);
             proptest::prop_assert_eq!(&p, &b);
         }
+    }
+
+    /// Coarse to fine visits `0..=n` each once, 0 first, then halves, quarters, ...
+    #[test]
+    fn coarse_to_fine_visits_every_sample_once() {
+        for n in (1..=300).chain([1023, 1024, 1025]) {
+            let order: Vec<usize> = coarse_to_fine(n).collect();
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..=n).collect::<Vec<_>>(), "n = {n}");
+            assert_eq!(order[0], 0);
+        }
+        assert_eq!(coarse_to_fine(6).collect::<Vec<_>>(), [0, 4, 2, 6, 1, 3, 5]);
+        assert_eq!(coarse_to_fine(8).collect::<Vec<_>>(), [0, 8, 4, 2, 6, 1, 3, 5, 7]);
     }
 
     /// On shipped examples with objects, random segments with random objects absent: the
