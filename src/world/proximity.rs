@@ -11,6 +11,7 @@ use parry3d_f64::math::Pose as PPose;
 use parry3d_f64::query;
 use parry3d_f64::shape::Shape;
 
+use super::lower_bound::{distance_at_least_below, GjkStart, LOWER_BOUND_TOLERANCE};
 use super::shapes::Obb;
 use super::{Held, HeldPart, PosedShape, World};
 use crate::resolve::RobotId;
@@ -110,10 +111,13 @@ fn ball_box_distance(
 }
 
 impl World {
-    /// A lower bound on the distance between two robots and what they carry: exact (the
-    /// shapes' own distance) where two shapes' boxes are nearer than `near`, the boxes'
-    /// gap elsewhere, and 0 when they touch. A pair of shapes parry3d cannot measure
-    /// counts by its boxes' gap, which still bounds the distance from below.
+    /// A lower bound on the distance between two robots and what they carry: within
+    /// [`LOWER_BOUND_TOLERANCE`] below the shapes' own distance where two shapes' boxes
+    /// are nearer than `near` (GJK's dual bound: the timing stage wants a bound from
+    /// below, not parry's distance to its last digits, which cost a third of a 200-can
+    /// table's compile), the boxes' gap elsewhere, and 0 when they touch. A pair of
+    /// shapes parry3d cannot measure counts by its boxes' gap, which still bounds the
+    /// distance from below.
     pub fn robots_apart(&self, a: RobotAt, b: RobotAt, near: f64) -> f64 {
         APART.with(|cell| {
             let mut s = cell.borrow_mut();
@@ -180,7 +184,21 @@ impl World {
                     }
                 };
                 let ((sa, posea), (sb, poseb)) = (nth(0, i), nth(1, j));
-                let d = shape_distance(posea, sa, poseb, sb).map_or(gap, |d| d.max(gap));
+                // GJK's bound from below, stopped once it cannot lower the best (see
+                // `distance_at_least_below`), after the turned boxes' gap, which often
+                // proves that already; balls and boxes in closed form.
+                if !in_closed_form(sa, sb) && turned_boxes_gap(posea, sa, poseb, sb) >= best {
+                    continue;
+                }
+                let bound = distance_at_least_below(
+                    posea,
+                    sa,
+                    poseb,
+                    sb,
+                    (LOWER_BOUND_TOLERANCE, best),
+                    &mut GjkStart::default(),
+                );
+                let d = bound.map_or(gap, |d| d.max(gap));
                 best = best.min(d);
                 if best <= 0.0 {
                     return 0.0;
@@ -362,8 +380,9 @@ mod tests {
         assert!((d.expect("measured") - 0.7).abs() < 1e-15);
     }
 
-    /// The value `robots_apart` had before it pruned pairs: every pair of shapes, in
-    /// order, measured where its boxes are nearer than `near`.
+    /// Every pair of shapes, in order, measured by parry's distance where its boxes are
+    /// nearer than `near`: what `robots_apart` was before it pruned pairs and took GJK's
+    /// bound from below, to the bit.
     fn every_pair(w: &World, a: RobotAt, b: RobotAt, near: f64) -> f64 {
         let posed = |at: RobotAt| {
             let mut robot = Vec::new();
@@ -398,7 +417,7 @@ mod tests {
     }
 
     #[test]
-    fn robots_apart_is_the_least_over_every_pair_bit_for_bit() {
+    fn robots_apart_is_within_the_tolerance_below_the_least_over_every_pair() {
         use crate::diag::{FsLoader, SourceMap};
         use crate::resolve::{ObjectId, RobotId};
         use rand::{RngExt, SeedableRng};
@@ -428,7 +447,10 @@ mod tests {
             let b = RobotAt { robot: r1, q: &q1, held: h1.as_ref() };
             for near in [0.1, 0.02, 1.0] {
                 let (fast, slow) = (w.robots_apart(a, b, near), every_pair(&w, a, b, near));
-                assert_eq!(fast.to_bits(), slow.to_bits(), "draw {i}, near {near}: {fast} against {slow}");
+                // parry's distance is from above (to a relative 5e-8, but for rounding),
+                // the bound from below.
+                let within = fast <= slow + 1e-12 && fast >= slow - LOWER_BOUND_TOLERANCE - 1e-7 * slow;
+                assert!(within && (slow > 0.0 || fast == 0.0), "draw {i}, near {near}: {fast} against {slow}");
                 touching += usize::from(slow == 0.0);
                 measured += usize::from(slow > 0.0 && slow < near);
             }
