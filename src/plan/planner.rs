@@ -1,36 +1,26 @@
 //! The planner over a [`World`]: one lazily grown PRMwO roadmap per robot, answering
 //! `findPath` queries for every object and target configuration of that robot.
 
-use std::sync::Arc;
-
 use super::prm::{PrmOptions, RobotPlanner};
 use super::space::{Mode, Space};
 use super::{Answer, Goal, Oracle};
 use crate::resolve::{ObjectId, Objective, PlannerSettings, RobotId};
-use crate::world::{Blocker, Check, CheckCtx, CheckMemo, GraspConfig, Held, ObjectSet, World};
+use crate::world::{Blocker, Check, CheckCtx, GraspConfig, Held, ObjectSet, World};
 
 /// One robot of a world as a [`Space`]; the other robots stand at home.
 pub struct RobotSpace<'w> {
     world: &'w World,
     robot: RobotId,
-    /// The robot's part of its checks at configurations asked about before (see
-    /// [`CheckMemo`]).
-    memo: Arc<CheckMemo>,
 }
 
 impl<'w> RobotSpace<'w> {
     pub fn new(world: &'w World, robot: RobotId) -> Self {
-        RobotSpace { world, robot, memo: Arc::default() }
+        RobotSpace { world, robot }
     }
+}
 
-    fn ctx(&self, mode: &Mode) -> CheckCtx {
-        CheckCtx {
-            absent: mode.absent.clone(),
-            held: mode.held.clone(),
-            memo: Some(self.memo.clone()),
-            ..CheckCtx::default()
-        }
-    }
+fn ctx(mode: &Mode) -> CheckCtx {
+    CheckCtx { absent: mode.absent.clone(), held: mode.held.clone(), ..CheckCtx::default() }
 }
 
 impl Space for RobotSpace<'_> {
@@ -44,19 +34,19 @@ impl Space for RobotSpace<'_> {
         self.world.limits(self.robot)
     }
     fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check(self.robot, q, &c);
         *checks += c.count();
         out
     }
     fn touches_nothing(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.touches_nothing(self.robot, q, &c);
         *checks += c.count();
         out
     }
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_segment(self.robot, a, b, step, &c);
         *checks += c.count();
         out
@@ -72,7 +62,7 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_samples(self.robot, ends, n, indices, &c);
         *checks += c.count();
         out
@@ -85,25 +75,25 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_segment_known(self.robot, ends, step, known, &c);
         *checks += c.count();
         out
     }
     fn check_segment_held(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_segment_held(self.robot, a, b, step, &c);
         *checks += c.count();
         out
     }
     fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_motion(self.robot, a, b, resolution, &c);
         *checks += c.count();
         out
     }
     fn check_motion_rest(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = self.ctx(mode);
+        let c = ctx(mode);
         let out = self.world.check_motion_rest(self.robot, a, b, resolution, &c);
         *checks += c.count();
         out

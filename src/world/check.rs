@@ -14,7 +14,6 @@ use nalgebra::Isometry3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose as PPose, Vector as PVec};
 
-use super::memo::CheckMemo;
 use super::narrow::{collide_moving, no_start};
 use super::pair_grid::{body_distance, Measure};
 use super::robot::{assert_dof, RobotModel};
@@ -43,9 +42,6 @@ pub struct CheckCtx {
     pub bodies_placed: Cell<u64>,
     /// Contacts with a box a ball inside a hull proved (the exact test skipped).
     pub inner_proved: Cell<u64>,
-    /// The planner's memory of the robot's part of its checks (see [`CheckMemo`]); none
-    /// for anyone else.
-    pub memo: Option<std::sync::Arc<CheckMemo>>,
 }
 
 impl CheckCtx {
@@ -197,54 +193,11 @@ pub(super) fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robo
     if let Some(blocked) = count_within_limits(m, q, ctx) {
         return blocked;
     }
-    let posture = ctx.held.as_ref().map_or(OPEN, |h| h.posture);
-    let Some(memo) = ctx.memo.as_deref().filter(|_| robot_part) else {
-        return SCRATCH.with(|cell| {
-            let mut s = cell.borrow_mut();
-            pose_robot(m, q, posture, &mut s);
-            let check = check_posed(w, m, ctx, &mut s, robot_part, (q, posture));
-            count_placed(ctx, &s);
-            check
-        });
-    };
-    // The robot's part as the planner saw it before, or taken now with everything there;
-    // what is absent or carried then drops out of its labels. Its block is the one the
-    // check finds with those absent: objects never block, and the bodies meet the fixed
-    // ones in the same order.
-    let known = memo.robot_part(r, q, posture);
-    let not_there = |mut l: ObjectSet| {
-        let gone: Vec<ObjectId> = l.iter().filter(|&o| ctx.not_there(o)).collect();
-        gone.into_iter().for_each(|o| l.remove(o));
-        l
-    };
-    match (&known, &ctx.held) {
-        (Some(Check::Blocked(b)), _) => return Check::Blocked(b.clone()),
-        (Some(Check::Touches(l)), None) => return Check::Touches(not_there(l.clone())),
-        _ => {}
-    }
     SCRATCH.with(|cell| {
         let mut s = cell.borrow_mut();
+        let posture = ctx.held.as_ref().map_or(OPEN, |h| h.posture);
         pose_robot(m, q, posture, &mut s);
-        let robot = known.unwrap_or_else(|| {
-            let everything = CheckCtx::default();
-            let part = check_posed(w, m, &everything, &mut s, true, (q, posture));
-            ctx.grid_apart.set(ctx.grid_apart.get() + everything.grid_apart.get());
-            ctx.inner_proved.set(ctx.inner_proved.get() + everything.inner_proved.get());
-            memo.keep(r, q, posture, &part);
-            part
-        });
-        let check = match robot {
-            Check::Touches(l) if ctx.held.is_some() => match check_posed(w, m, ctx, &mut s, false, (q, posture)) {
-                Check::Touches(held) => {
-                    let mut l = not_there(l);
-                    l.union_with(&held);
-                    Check::Touches(l)
-                }
-                blocked => blocked,
-            },
-            Check::Touches(l) => Check::Touches(not_there(l)),
-            blocked => blocked,
-        };
+        let check = check_posed(w, m, ctx, &mut s, robot_part, (q, posture));
         count_placed(ctx, &s);
         check
     })

@@ -25,7 +25,6 @@ mod ik;
 mod labels;
 mod load;
 mod lower_bound;
-mod memo;
 mod narrow;
 mod pair_grid;
 mod proximity;
@@ -52,7 +51,6 @@ pub use grasps::{
 };
 pub use labels::{Blocker, Check, ObjectSet};
 pub use lower_bound::{distance_at_least, distance_at_least_from, GjkStart, LOWER_BOUND_TOLERANCE};
-pub use memo::CheckMemo;
 pub use proximity::{aabb_gap, in_closed_form, shape_distance, turned_boxes_gap, RobotAt};
 pub use shapes::{MeshMode, CONTACT_TOLERANCE};
 pub use sweep::{posture_of, BodyInfo, HeldPart, JointReach, PosedShape, StaticOwner, StaticShape};
