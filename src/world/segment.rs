@@ -69,8 +69,8 @@ fn segment_coarse_to_fine(
 }
 
 /// `0..=n` coarse to fine: sample 0 first (a non-finite end is blocked by the limits
-/// check at once), then `n` and the multiples of the largest power of two, then per
-/// smaller stride the multiples of it not already visited as multiples of twice it.
+/// check at once), then, per power of two from the least at or above `n` down, its
+/// multiples not already visited as multiples of twice it (`n = 6`: 0, 4, 2, 6, 1, 3, 5).
 pub(super) fn coarse_to_fine(n: usize) -> impl Iterator<Item = usize> {
     let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
     let strides = std::iter::successors(Some(top), |&s| (s > 1).then_some(s / 2));
