@@ -10,7 +10,7 @@
 //! with its length and the union of its labels, so the fewest-removals answer is the
 //! same; the searches then expand a contracted edge back into its nodes.
 
-use std::collections::HashMap;
+use crate::plan::Map as HashMap;
 
 use super::layers::{lookup, LabelKey, ModeKey, Node, State};
 use crate::world::ObjectSet;

@@ -2,7 +2,7 @@
 //! roadmap elements have been checked in which mode (empty hand, or carrying an
 //! object after a given grasp), and how a graph for one round and one goal is built.
 
-use std::collections::HashMap;
+use crate::plan::Map as HashMap;
 
 use super::chains::{contract, Chain};
 use super::knn::{dist2, GrowingIndex};
@@ -74,7 +74,7 @@ pub(super) struct State {
     pub(super) map_edges: Vec<Option<Option<ObjectSet>>>,
     pub(super) labels: HashMap<LabelKey, Option<ObjectSet>>,
     /// Segment items whose stored label comes from the certifying (fine) check.
-    pub(super) certified: std::collections::HashSet<LabelKey>,
+    pub(super) certified: crate::plan::Set<LabelKey>,
     /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
     pub(super) helds: HashMap<(ObjectId, u32), Carried>,
     /// `selectGrasps` answers, computed once per object (IK is not cheap).
@@ -354,7 +354,7 @@ pub(super) fn build(
         }
     }
     // Tree nodes reach the roadmap only through the links their connect steps found.
-    let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::default();
     if trees {
         for &(x, v, rr) in &s.goals[pre as usize].links {
             if rr <= r {
@@ -362,9 +362,9 @@ pub(super) fn build(
             }
         }
     }
-    let in_tree: std::collections::HashSet<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
+    let in_tree: crate::plan::Set<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
     // Each node once, though it may be in several layers.
-    let mut done = std::collections::HashSet::new();
+    let mut done = crate::plan::Set::default();
     for x in layers.iter().flat_map(|l| l.2.iter().copied()) {
         if !done.insert(x) {
             continue;
@@ -389,8 +389,8 @@ pub(super) fn build(
     if cut {
         let lens = |a: u32, b: u32| dist2(&s.goals[a as usize].q, &s.goals[b as usize].q).sqrt();
         let (kept, chains) = contract(pre, &tree, |x| nbrs.get(&x).is_some_and(|v| !v.is_empty()), lens);
-        let kept: std::collections::HashSet<u32> = kept.into_iter().collect();
-        let whole: std::collections::HashSet<u32> = tree.iter().map(|t| t.0).collect();
+        let kept: crate::plan::Set<u32> = kept.into_iter().collect();
+        let whole: crate::plan::Set<u32> = tree.iter().map(|t| t.0).collect();
         for (mode, _, extras) in layers.iter_mut() {
             if *mode == Empty && extras.contains(&pre) {
                 extras.retain(|x| !whole.contains(x) || kept.contains(x));
@@ -408,8 +408,8 @@ pub(super) fn build(
         ekey: Vec::new(),
         erule: Vec::new(),
         vnode: Vec::new(),
-        fixed: HashMap::new(),
-        chains: HashMap::new(),
+        fixed: HashMap::default(),
+        chains: HashMap::default(),
         start: 0,
         goal: 0,
     };

@@ -29,6 +29,13 @@ use serde::Serialize;
 
 pub mod andor;
 
+/// The planner's hash maps and sets. Their keys (label keys, node numbers) are hashed
+/// millions of times a query, and std's SipHash spent 7-10 % of a large problem's time
+/// there; foldhash's fixed-seed hasher is a few times cheaper and has no per-process seed.
+/// Nothing reads these in their iteration order, so outputs do not depend on the hasher.
+pub(crate) type Map<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
+pub(crate) type Set<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
+
 use crate::resolve::{ObjectId, RobotId};
 use crate::world::{Blocker, Config, JointPath, ObjectSet};
 

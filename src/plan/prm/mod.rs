@@ -22,7 +22,7 @@ mod shortcut;
 #[cfg(test)]
 mod tests;
 
-use std::collections::{HashMap, HashSet};
+use crate::plan::{Map as HashMap, Set as HashSet};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -104,12 +104,12 @@ impl<S: Space> RobotPlanner<S> {
             State {
                 map,
                 goals: Vec::new(),
-                goal_ids: HashMap::new(),
+                goal_ids: HashMap::default(),
                 map_edges: Vec::new(),
-                labels: HashMap::new(),
-                certified: HashSet::new(),
-                helds: HashMap::new(),
-                grasps: HashMap::new(),
+                labels: HashMap::default(),
+                certified: HashSet::default(),
+                helds: HashMap::default(),
+                grasps: HashMap::default(),
             }
         });
         f(st)
