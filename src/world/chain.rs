@@ -8,10 +8,11 @@
 //! that an object fits between them. Mimic joints follow their leader wherever they
 //! are.
 
-use nalgebra::{Isometry3, Matrix6xX, Quaternion, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix6xX, Quaternion, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
+use super::half_turn::half_turn;
 use super::urdf::{Model, Motion};
 
 /// Where a link's joint value comes from.
@@ -375,9 +376,7 @@ impl Chain {
     fn motion_pose(motion: Motion, v: f64) -> Isometry3<f64> {
         match motion {
             Motion::Fixed => Isometry3::identity(),
-            Motion::Rotate(axis) => {
-                Isometry3::from_parts(Translation3::identity(), UnitQuaternion::from_axis_angle(&axis, v))
-            }
+            Motion::Rotate(axis) => Isometry3::from_parts(Translation3::identity(), turn_about(&axis, v)),
             Motion::Slide(axis) => {
                 Isometry3::from_parts(Translation3::from(axis.into_inner() * v), UnitQuaternion::identity())
             }
@@ -390,7 +389,7 @@ impl Chain {
     fn apply_motion(t: &mut Isometry3<f64>, motion: Motion, v: f64) {
         match motion {
             Motion::Fixed => {}
-            Motion::Rotate(axis) => t.rotation *= UnitQuaternion::from_axis_angle(&axis, v),
+            Motion::Rotate(axis) => t.rotation *= turn_about(&axis, v),
             m => *t *= Self::motion_pose(m, v),
         }
     }
@@ -443,7 +442,7 @@ impl Chain {
         let mut rotation = l.turns.0.mul(&parent.rotation, &l.pose_parent_joint.rotation);
         match l.motion {
             Motion::Fixed => {}
-            Motion::Rotate(axis) => rotation = l.turns.1.mul(&rotation, &UnitQuaternion::from_axis_angle(&axis, v)),
+            Motion::Rotate(axis) => rotation = l.turns.1.mul(&rotation, &turn_about(&axis, v)),
             m => return Isometry3::from_parts(translation, rotation) * Self::motion_pose(m, v),
         }
         Isometry3::from_parts(translation, rotation)
@@ -492,6 +491,14 @@ impl Chain {
         }
         tcp
     }
+}
+
+/// `UnitQuaternion::from_axis_angle(axis, v)`, its half angle's sine and cosine by
+/// [`half_turn`] (within an ulp or two of libm's; see there).
+#[inline]
+fn turn_about(axis: &Unit<Vector3<f64>>, v: f64) -> UnitQuaternion<f64> {
+    let (s, c) = half_turn(v);
+    UnitQuaternion::new_unchecked(Quaternion::from_parts(c, axis.as_ref() * s))
 }
 
 /// A uniform sample of `[lo, hi)` that cannot panic, unlike a bare `random_range` on

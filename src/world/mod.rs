@@ -20,6 +20,7 @@ mod error;
 mod escape;
 mod fingers;
 mod grasps;
+mod half_turn;
 mod hull;
 mod ik;
 mod labels;
