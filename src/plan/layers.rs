@@ -413,6 +413,12 @@ pub(super) fn build(
         start: 0,
         goal: 0,
     };
+    // Each roadmap vertex's degree at round r: room for its edges in every layer.
+    let mut degree = vec![0usize; n as usize];
+    for &(va, vb) in &s.map.edges[..m] {
+        degree[va as usize] += 1;
+        degree[vb as usize] += 1;
+    }
     let mut offsets = Vec::new();
     for (li, (mode, rule, extras)) in layers.iter().enumerate() {
         let (mode, rule) = (*mode, *rule);
@@ -442,7 +448,10 @@ pub(super) fn build(
                     }
                 },
             };
-            b.g.add_vertex(lab);
+            match node {
+                Node::Map(v) => b.g.add_vertex_of_degree(lab, degree[v as usize]),
+                Node::Goal(_) => b.g.add_vertex(lab),
+            };
             b.vkey.push(item);
             b.vrule.push(rule);
             b.vnode.push((li as u8, node));

@@ -65,7 +65,13 @@ fn touches_nothing(l: &Lab) -> bool {
 
 impl LabelGraph {
     pub(crate) fn add_vertex(&mut self, lab: Lab) -> u32 {
-        self.adj.push(Vec::new());
+        self.add_vertex_of_degree(lab, 0)
+    }
+    /// [`LabelGraph::add_vertex`] with room for `degree` edges: a layered graph's
+    /// roadmap vertices know theirs, and growing each list edge by edge was most of the
+    /// reallocations of a large problem's graph building.
+    pub(crate) fn add_vertex_of_degree(&mut self, lab: Lab, degree: usize) -> u32 {
+        self.adj.push(Vec::with_capacity(degree));
         self.vfree.push(touches_nothing(&lab));
         self.vlab.push(lab);
         (self.vlab.len() - 1) as u32
