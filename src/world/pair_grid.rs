@@ -136,8 +136,10 @@ impl PairGrid {
         let mut centre = [(0, 0.0); MAX_JOINTS];
         for (k, d) in self.dims.iter().enumerate() {
             let v = q[d.index];
-            // Clamped: a value a rounding outside the limits still uses the edge cell.
-            let t = (((v - d.lo) / d.width).floor().max(0.0) as usize).min(d.cells - 1);
+            // Clamped: a value a rounding outside the limits still uses the edge cell. The
+            // cast truncates and saturates, so it is `floor().max(0.0)` for every value
+            // (NaN too: 0) without the call `floor` is on a baseline x86-64.
+            let t = (((v - d.lo) / d.width) as usize).min(d.cells - 1);
             let c = d.lo + (t as f64 + 0.5) * d.width;
             bound += d.reach * (v - c).abs();
             cell = cell * d.cells + t;
