@@ -2,10 +2,11 @@
 //! unit quaternion `(cos v/2, axis sin v/2)`, and every check turns each joint once.
 //!
 //! libm's `sincos` is accurate everywhere and pays for it (about 105 instructions a call,
-//! 6 % of a check); joint angles are small, so a table of 64 steps around the circle and
-//! short Taylor series on the remainder (at most pi/64) do it in about a third, within an
-//! ulp or two of the true values. Plain multiplications and additions only (no fused
-//! ones): the same bits on every machine, which libm does not promise.
+//! 6 % of the cans examples' compile); joint angles are small, so a table of 64 steps
+//! around the circle and short Taylor series on the remainder (at most pi/64) do it in
+//! about a third, within 2 ulp of libm's values (see the tests). Plain multiplications and
+//! additions only (no fused ones): the same bits on every machine, which libm does not
+//! promise.
 
 /// `(sin(a), cos(a))` for `a = j * pi / 32`, correctly rounded (computed at 200 bits).
 #[rustfmt::skip]
