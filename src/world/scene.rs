@@ -93,8 +93,7 @@ struct Flat {
 }
 
 struct FlatNode {
-    mins: [f64; 3],
-    maxs: [f64; 3],
+    aabb: Aabb,
     /// Where the walk goes when this node's box is missed: past its subtree.
     skip: u32,
     /// The leaf, or `u32::MAX` for an inner node.
@@ -115,8 +114,7 @@ impl Flat {
         }
         let at = nodes.len();
         let leaf = if leaves.len() == 1 { leaves[0].0 } else { u32::MAX };
-        let (mins, maxs) = (union.mins, union.maxs);
-        nodes.push(FlatNode { mins: [mins.x, mins.y, mins.z], maxs: [maxs.x, maxs.y, maxs.z], skip: 0, leaf });
+        nodes.push(FlatNode { aabb: union, skip: 0, leaf });
         if leaves.len() > 1 {
             let half = leaves.len() / 2;
             Flat::push(&leaves[..half], nodes);
@@ -127,17 +125,9 @@ impl Flat {
 
     #[inline]
     fn meeting(&self, aabb: &Aabb, out: &mut Vec<u32>) {
-        let (lo, hi) = (aabb.mins, aabb.maxs);
         let mut i = 0;
         while let Some(n) = self.nodes.get(i) {
-            // `BvhNode::intersects`'s test, bounds included.
-            let meets = (n.mins[0] <= hi.x)
-                & (n.mins[1] <= hi.y)
-                & (n.mins[2] <= hi.z)
-                & (n.maxs[0] >= lo.x)
-                & (n.maxs[1] >= lo.y)
-                & (n.maxs[2] >= lo.z);
-            if meets {
+            if meets(&n.aabb, aabb) {
                 if n.leaf != u32::MAX {
                     out.push(n.leaf);
                 }
@@ -158,11 +148,21 @@ fn traversal_order(bvh: &Bvh) -> Vec<(u32, Aabb)> {
 #[inline]
 fn scan_meeting(scan: &[(u32, Aabb)], aabb: &Aabb, out: &mut Vec<u32>) {
     for (leaf, b) in scan {
-        // `BvhNode::intersects`'s test, bounds included.
-        if b.mins.cmple(aabb.maxs).all() && b.maxs.cmpge(aabb.mins).all() {
+        if meets(b, aabb) {
             out.push(*leaf);
         }
     }
+}
+
+/// `BvhNode::intersects`'s test, bounds included, with one branch, not six.
+#[inline]
+fn meets(b: &Aabb, q: &Aabb) -> bool {
+    (b.mins.x <= q.maxs.x)
+        & (b.mins.y <= q.maxs.y)
+        & (b.mins.z <= q.maxs.z)
+        & (b.maxs.x >= q.mins.x)
+        & (b.maxs.y >= q.mins.y)
+        & (b.maxs.z >= q.mins.z)
 }
 
 #[cfg(test)]
