@@ -10,7 +10,7 @@
 //! with its length and the union of its labels, so the fewest-removals answer is the
 //! same; the searches then expand a contracted edge back into its nodes.
 
-use crate::plan::Map as HashMap;
+use crate::plan::Map;
 
 use super::layers::{lookup, LabelKey, ModeKey, Node, State};
 use crate::world::ObjectSet;
@@ -61,7 +61,7 @@ pub(super) fn contract(
     kept: impl Fn(u32) -> bool,
     len: impl Fn(u32, u32) -> f64,
 ) -> (Vec<u32>, Vec<Chain>) {
-    let pos: HashMap<u32, usize> = tree.iter().enumerate().map(|(i, t)| (t.0, i)).collect();
+    let pos: Map<u32, usize> = tree.iter().enumerate().map(|(i, t)| (t.0, i)).collect();
     let parent = |i: usize| pos.get(&tree[i].1).copied();
     // Which nodes lie on the way from a kept node to the root, and how many of their
     // children do: children come after their parents, so a reverse pass sees them first.

@@ -2,7 +2,7 @@
 //! roadmap elements have been checked in which mode (empty hand, or carrying an
 //! object after a given grasp), and how a graph for one round and one goal is built.
 
-use crate::plan::Map as HashMap;
+use crate::plan::{Map, Set};
 
 use super::chains::{contract, Chain};
 use super::knn::{dist2, GrowingIndex};
@@ -69,16 +69,16 @@ pub(super) type Carried = (Held, Vec<f64>, Vec<f64>);
 pub(super) struct State {
     pub(super) map: Roadmap,
     pub(super) goals: Vec<GoalNode>,
-    pub(super) goal_ids: HashMap<Vec<u64>, u32>,
+    pub(super) goal_ids: Map<Vec<u64>, u32>,
     /// Empty-hand labels of roadmap edges, by edge index (`None`: not checked yet).
     pub(super) map_edges: Vec<Option<Option<ObjectSet>>>,
-    pub(super) labels: HashMap<LabelKey, Option<ObjectSet>>,
+    pub(super) labels: Map<LabelKey, Option<ObjectSet>>,
     /// Segment items whose stored label comes from the certifying (fine) check.
-    pub(super) certified: crate::plan::Set<LabelKey>,
+    pub(super) certified: Set<LabelKey>,
     /// Per (object, grasp): the held object, q_grasp and q_pregrasp.
-    pub(super) helds: HashMap<(ObjectId, u32), Carried>,
+    pub(super) helds: Map<(ObjectId, u32), Carried>,
     /// `selectGrasps` answers, computed once per object (IK is not cheap).
-    pub(super) grasps: HashMap<ObjectId, Vec<GraspConfig>>,
+    pub(super) grasps: Map<ObjectId, Vec<GraspConfig>>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,9 +128,9 @@ pub(super) struct Built {
     /// Layer of each vertex and its node.
     pub(super) vnode: Vec<(u8, Node)>,
     /// Labels of the transition edges (which have no key).
-    pub(super) fixed: HashMap<u32, ObjectSet>,
+    pub(super) fixed: Map<u32, ObjectSet>,
     /// Edges standing for a run of goal-tree nodes (no key either; see `chains`).
-    pub(super) chains: HashMap<u32, Chain>,
+    pub(super) chains: Map<u32, Chain>,
     pub(super) start: u32,
     pub(super) goal: u32,
 }
@@ -208,7 +208,7 @@ impl Built {
 
     /// Labels tree runs again after some of their parts' labels changed (certified);
     /// returns whether any did.
-    pub(super) fn relabel_chains(&mut self, s: &State, changed: &HashMap<LabelKey, Option<ObjectSet>>) -> bool {
+    pub(super) fn relabel_chains(&mut self, s: &State, changed: &Map<LabelKey, Option<ObjectSet>>) -> bool {
         let mut any = false;
         for (&e, c) in &self.chains {
             if c.keys.iter().any(|k| changed.contains_key(k)) {
@@ -354,7 +354,7 @@ pub(super) fn build(
         }
     }
     // Tree nodes reach the roadmap only through the links their connect steps found.
-    let mut nbrs: HashMap<u32, Vec<u32>> = HashMap::default();
+    let mut nbrs: Map<u32, Vec<u32>> = Map::default();
     if trees {
         for &(x, v, rr) in &s.goals[pre as usize].links {
             if rr <= r {
@@ -362,9 +362,9 @@ pub(super) fn build(
             }
         }
     }
-    let in_tree: crate::plan::Set<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
+    let in_tree: Set<u32> = tree.iter().skip(TREE_LINKED).map(|t| t.0).collect();
     // Each node once, though it may be in several layers.
-    let mut done = crate::plan::Set::default();
+    let mut done = Set::default();
     for x in layers.iter().flat_map(|l| l.2.iter().copied()) {
         if !done.insert(x) {
             continue;
@@ -389,8 +389,8 @@ pub(super) fn build(
     if cut {
         let lens = |a: u32, b: u32| dist2(&s.goals[a as usize].q, &s.goals[b as usize].q).sqrt();
         let (kept, chains) = contract(pre, &tree, |x| nbrs.get(&x).is_some_and(|v| !v.is_empty()), lens);
-        let kept: crate::plan::Set<u32> = kept.into_iter().collect();
-        let whole: crate::plan::Set<u32> = tree.iter().map(|t| t.0).collect();
+        let kept: Set<u32> = kept.into_iter().collect();
+        let whole: Set<u32> = tree.iter().map(|t| t.0).collect();
         for (mode, _, extras) in layers.iter_mut() {
             if *mode == Empty && extras.contains(&pre) {
                 extras.retain(|x| !whole.contains(x) || kept.contains(x));
@@ -408,8 +408,8 @@ pub(super) fn build(
         ekey: Vec::new(),
         erule: Vec::new(),
         vnode: Vec::new(),
-        fixed: HashMap::default(),
-        chains: HashMap::default(),
+        fixed: Map::default(),
+        chains: Map::default(),
         start: 0,
         goal: 0,
     };
@@ -491,7 +491,7 @@ pub(super) fn build(
                 add_edge(&mut b, off + v, lx, Node::Map(v), Node::Goal(x), len, known);
             }
         }
-        let pos: HashMap<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
+        let pos: Map<u32, u32> = extras.iter().enumerate().map(|(i, &x)| (x, off + n + i as u32)).collect();
         // The same test as the one that left the runs' interiors out of `extras` above.
         if extras.contains(&pre) && mode == Empty && cut {
             for c in &runs {

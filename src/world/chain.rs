@@ -494,7 +494,7 @@ impl Chain {
 }
 
 /// `UnitQuaternion::from_axis_angle(axis, v)`, its half angle's sine and cosine by
-/// [`half_turn`] (within an ulp or two of libm's; see there).
+/// [`half_turn`] (within 2 ulp of libm's; see there).
 #[inline]
 fn turn_about(axis: &Unit<Vector3<f64>>, v: f64) -> UnitQuaternion<f64> {
     let (s, c) = half_turn(v);

@@ -1,7 +1,7 @@
 //! Lazy labelling: one round's search over every goal's layered graph, checking only
 //! the elements a best path uses, then certifying the winner with the fine check.
 
-use crate::plan::{Map as HashMap, Set as HashSet};
+use crate::plan::{Map, Set};
 
 use rayon::prelude::*;
 
@@ -126,7 +126,7 @@ impl<S: Space> RobotPlanner<S> {
         let mut found: Vec<Option<Found>> = built.par_iter().map(search).collect();
         let mut dirty = vec![false; built.len()];
         // Edges partly walked by an earlier search of this round (see `eval_until_spoilt`).
-        let mut walks: HashMap<LabelKey, Walk> = HashMap::default();
+        let mut walks: Map<LabelKey, Walk> = Map::default();
         loop {
             let stale: Vec<usize> = (0..built.len()).filter(|&i| dirty[i]).collect();
             let fresh: Vec<Option<Found>> = stale.par_iter().map(|&i| search(&built[i])).collect();
@@ -153,7 +153,7 @@ impl<S: Space> RobotPlanner<S> {
             // `Stakes`), each with what its path took it to cost.
             let mut wanted: Vec<LabelKey> = Vec::new();
             let mut stakes = Stakes::default();
-            let mut seen = HashSet::default();
+            let mut seen = Set::default();
             for &i in &chosen {
                 let (b, Some(f)) = (&built[i], &found[i]) else { continue };
                 // Under `fewest_removals` a label beyond the path's set changes its key too.
@@ -219,9 +219,9 @@ impl<S: Space> RobotPlanner<S> {
                 continue;
             }
             // Look up or prepare jobs under the lock, evaluate without it.
-            let (mut known, jobs): (HashMap<LabelKey, Option<ObjectSet>>, Vec<Job>) = self.lock(
+            let (mut known, jobs): (Map<LabelKey, Option<ObjectSet>>, Vec<Job>) = self.lock(
                 |s| {
-                    let mut known = HashMap::default();
+                    let mut known = Map::default();
                     let mut jobs = Vec::new();
                     for it in wanted {
                         match lookup(s, it) {
@@ -291,7 +291,7 @@ impl<S: Space> RobotPlanner<S> {
         &self,
         jobs: &[Job],
         stakes: &Stakes,
-        walks: &mut HashMap<LabelKey, Walk>,
+        walks: &mut Map<LabelKey, Walk>,
     ) -> (Vec<(usize, Option<ObjectSet>)>, u64) {
         let res = self.settings.resolution;
         let (mut out, mut spent) = (Vec::with_capacity(jobs.len()), 0);
@@ -363,10 +363,10 @@ impl<S: Space> RobotPlanner<S> {
     /// came from the same segments in the same mode (every coarse label but a carrying
     /// edge's taken from its empty-hand label, see `eval`), only the samples it did not
     /// take are checked.
-    pub(super) fn certify(&self, b: &Built, f: &Found, checks: &mut u64) -> HashMap<LabelKey, Option<ObjectSet>> {
+    pub(super) fn certify(&self, b: &Built, f: &Found, checks: &mut u64) -> Map<LabelKey, Option<ObjectSet>> {
         let jobs: Vec<(Job, Option<ObjectSet>)> = self.lock(
             |s| {
-                let mut seen = HashSet::default();
+                let mut seen = Set::default();
                 b.edge_keys(f)
                     .filter(|k| {
                         matches!(k, LabelKey::Edge(..) | LabelKey::Approach(..))
@@ -393,7 +393,7 @@ impl<S: Space> RobotPlanner<S> {
         *checks += results.iter().map(|r| r.1).sum::<u64>();
         self.lock(
             |s| {
-                let mut changed = HashMap::default();
+                let mut changed = Map::default();
                 for ((j, _), (l, _)) in jobs.iter().zip(results) {
                     s.certified.insert(j.item);
                     if lookup(s, j.item).as_ref() != Some(&l) {

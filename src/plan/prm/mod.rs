@@ -22,7 +22,7 @@ mod shortcut;
 #[cfg(test)]
 mod tests;
 
-use crate::plan::{Map as HashMap, Set as HashSet};
+use crate::plan::{Map, Set};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -104,12 +104,12 @@ impl<S: Space> RobotPlanner<S> {
             State {
                 map,
                 goals: Vec::new(),
-                goal_ids: HashMap::default(),
+                goal_ids: Map::default(),
                 map_edges: Vec::new(),
-                labels: HashMap::default(),
-                certified: HashSet::default(),
-                helds: HashMap::default(),
-                grasps: HashMap::default(),
+                labels: Map::default(),
+                certified: Set::default(),
+                helds: Map::default(),
+                grasps: Map::default(),
             }
         });
         f(st)

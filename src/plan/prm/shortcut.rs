@@ -3,7 +3,7 @@
 //! removes. The removal set cannot grow, so the answer stays as minimal as it was; the
 //! motion gets shorter and loses the zigzags of goal trees and roadmap detours.
 
-use crate::plan::{Map as HashMap, Set as HashSet};
+use crate::plan::{Map, Set};
 
 use super::super::space::{Mode, Space};
 use super::RobotPlanner;
@@ -49,8 +49,8 @@ impl<S: Space> RobotPlanner<S> {
     ) -> Option<Vec<Vec<f64>>> {
         // Per move tried: its coarse answer, false once it failed the rest; the moves
         // that passed the rest.
-        let mut coarse: HashMap<(usize, usize), bool> = HashMap::default();
-        let mut sure: HashSet<(usize, usize)> = HashSet::default();
+        let mut coarse: Map<(usize, usize), bool> = Map::default();
+        let mut sure: Set<(usize, usize)> = Set::default();
         'drop: loop {
             let kept = drop_waypoints(run.len(), |i, k| {
                 *coarse
