@@ -67,6 +67,19 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn check_samples_twin(
+        &self,
+        ends: (&[f64], &[f64]),
+        n: usize,
+        indices: &[usize],
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> (Check, Check) {
+        let c = ctx(mode);
+        let out = self.world.check_samples_twin(self.robot, ends, n, indices, &c);
+        *checks += c.count();
+        out
+    }
     fn check_segment_known(
         &self,
         ends: (&[f64], &[f64]),

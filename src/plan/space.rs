@@ -14,6 +14,17 @@ pub struct Mode {
     pub held: Option<Held>,
 }
 
+impl Mode {
+    /// The same scene with the hand empty: the object carried back in its place.
+    pub fn empty_of(&self) -> Mode {
+        let mut absent = self.absent.clone();
+        if let Some(h) = &self.held {
+            absent.remove(h.object);
+        }
+        Mode { absent, held: None }
+    }
+}
+
 /// One robot's configuration space, with the other robots at home.
 pub trait Space: Sync {
     fn dof(&self) -> usize;
@@ -53,6 +64,20 @@ pub trait Space: Sync {
             }
         }
         Check::Touches(out)
+    }
+    /// `check_samples` of the same samples in [`Mode::empty_of`]`(mode)` and in `mode`,
+    /// each up to its own first block: (the empty hand's, the carrying one's). A space
+    /// may check them together where that costs less (see `World::check_samples_twin`).
+    fn check_samples_twin(
+        &self,
+        ends: (&[f64], &[f64]),
+        n: usize,
+        indices: &[usize],
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> (Check, Check) {
+        let empty = self.check_samples(ends, n, &mut indices.iter().copied(), &mode.empty_of(), checks);
+        (empty, self.check_samples(ends, n, &mut indices.iter().copied(), mode, checks))
     }
     /// `check_segment` with the ends flagged in `known` (`a`, `b`) left unchecked where a
     /// space can skip them: the caller has their checks in `mode`, neither blocked, and

@@ -58,6 +58,17 @@ impl CheckCtx {
     pub fn count(&self) -> u64 {
         self.checks.get()
     }
+    /// Adds `other`'s counts to this one's.
+    pub(super) fn add_counts(&self, other: &CheckCtx) {
+        for (to, from) in [
+            (&self.checks, &other.checks),
+            (&self.grid_apart, &other.grid_apart),
+            (&self.bodies_placed, &other.bodies_placed),
+            (&self.inner_proved, &other.inner_proved),
+        ] {
+            to.set(to.get() + from.get());
+        }
+    }
     /// Whether object `o` is left out of the check: absent, or the one carried.
     pub(super) fn not_there(&self, o: ObjectId) -> bool {
         self.absent.contains(o) || self.held.as_ref().is_some_and(|h| h.object == o)
@@ -200,6 +211,41 @@ pub(super) fn check_parts(w: &World, r: RobotId, q: &[f64], ctx: &CheckCtx, robo
         let check = check_posed(w, m, ctx, &mut s, robot_part, (q, posture));
         count_placed(ctx, &s);
         check
+    })
+}
+
+/// The checks of `q` with the hand empty (in `empty`) and carrying (in `carry`, fingers
+/// open as in the empty hand) on one placing of the robot: its own bodies meet the same
+/// things in both, less the carried object and `carry.absent`, so they are checked once
+/// (in `empty`, the carried object in place) and only the carried object besides. Each
+/// answer is the one [`check`] gives in its context; the carrying one is blocked with the
+/// empty hand's block.
+pub(super) fn check_twin(w: &World, r: RobotId, q: &[f64], empty: &CheckCtx, carry: &CheckCtx) -> (Check, Check) {
+    let m = &w.robots[r.index()];
+    if let Some(blocked) = count_within_limits(m, q, empty) {
+        return (blocked.clone(), blocked);
+    }
+    SCRATCH.with(|cell| {
+        let mut s = cell.borrow_mut();
+        pose_robot(m, q, OPEN, &mut s);
+        let own = check_posed(w, m, empty, &mut s, true, (q, OPEN));
+        let held = match &own {
+            Check::Touches(l) => match check_posed(w, m, carry, &mut s, false, (q, OPEN)) {
+                Check::Touches(mut h) => {
+                    let mut own = l.clone();
+                    own.subtract(&carry.absent);
+                    if let Some(held) = &carry.held {
+                        own.remove(held.object);
+                    }
+                    h.union_with(&own);
+                    Check::Touches(h)
+                }
+                blocked => blocked,
+            },
+            blocked => blocked.clone(),
+        };
+        count_placed(empty, &s);
+        (own, held)
     })
 }
 

@@ -274,6 +274,21 @@ impl World {
     ) -> Check {
         segment::label_samples(self, r, ends, n, indices, ctx, true)
     }
+    /// [`World::check_samples`] of the same samples in two contexts, each up to its own
+    /// first block: the hand empty (the carried object in its place, `carry.absent` less
+    /// it absent) and `carry`. Where the fingers hold the object open, as they are in the
+    /// empty hand, each sample is placed and the robot's own bodies checked once for
+    /// both. Configurations are counted in `carry`.
+    pub fn check_samples_twin(
+        &self,
+        r: RobotId,
+        ends: (&[f64], &[f64]),
+        n: usize,
+        indices: &[usize],
+        carry: &CheckCtx,
+    ) -> (Check, Check) {
+        segment::label_samples_twin(self, r, ends, n, indices, carry)
+    }
     /// The check that certifies a motion, for the verifier and the planner alike: the
     /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every
     /// sample of the coarse check is among them. Panics if `a` or `b` is not

@@ -2,9 +2,9 @@
 //! and the order they are visited in (coarse to fine for the planner, every one in order
 //! for the certifying check), each by the labelled check of [`super::check`].
 
-use super::check::{check, check_parts, CheckCtx};
+use super::check::{check, check_parts, check_twin, CheckCtx};
 use super::robot::assert_dof;
-use super::{Check, ObjectSet, World};
+use super::{Check, ObjectSet, World, OPEN_POSTURE};
 use crate::resolve::RobotId;
 
 /// The planner's coarse segment check: the samples of `check_motion(.., 1, ..)`,
@@ -104,6 +104,75 @@ pub(super) fn label_samples(
         }
     }
     Check::Touches(out)
+}
+
+/// [`label_samples`] of the same samples with the hand empty and carrying `carry.held`,
+/// each up to its own first block: the empty hand's check has the carried object in its
+/// place and `carry.absent` less it absent. Where the fingers hold the object as they are
+/// with the hand empty (open), the robot is placed and its own bodies checked once per
+/// sample for both (see [`check_twin`]). Configurations are counted in `carry`.
+pub(super) fn label_samples_twin(
+    w: &World,
+    r: RobotId,
+    ends: (&[f64], &[f64]),
+    n: usize,
+    indices: &[usize],
+    carry: &CheckCtx,
+) -> (Check, Check) {
+    let mut empty = CheckCtx::with_absent(carry.absent.clone());
+    let out = match &carry.held {
+        Some(held) => {
+            empty.absent.remove(held.object);
+            match held.posture == OPEN_POSTURE {
+                true => twin_samples(w, r, ends, n, indices, (&empty, carry)),
+                false => (
+                    label_samples(w, r, ends, n, indices.iter().copied(), &empty, true),
+                    label_samples(w, r, ends, n, indices.iter().copied(), carry, true),
+                ),
+            }
+        }
+        None => {
+            let c = label_samples(w, r, ends, n, indices.iter().copied(), carry, true);
+            (c.clone(), c)
+        }
+    };
+    carry.add_counts(&empty);
+    out
+}
+
+fn twin_samples(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    n: usize,
+    indices: &[usize],
+    (empty, carry): (&CheckCtx, &CheckCtx),
+) -> (Check, Check) {
+    let m = &w.robots[r.index()];
+    assert_dof(m, a);
+    assert_dof(m, b);
+    let mut q = a.to_vec();
+    let (mut own, mut with) = (ObjectSet::new(), ObjectSet::new());
+    for (k, &i) in indices.iter().enumerate() {
+        sample(a, b, i, n, &mut q);
+        match check_twin(w, r, &q, empty, carry) {
+            (Check::Touches(e), Check::Touches(c)) => {
+                own.union_with(&e);
+                with.union_with(&c);
+            }
+            // Carrying stops here; the empty hand goes on.
+            (Check::Touches(e), blocked) => {
+                own.union_with(&e);
+                let rest = label_samples(w, r, (a, b), n, indices[k + 1..].iter().copied(), empty, true);
+                return match rest {
+                    Check::Touches(l) => (Check::Touches(own.union(&l)), blocked),
+                    rest => (rest, blocked),
+                };
+            }
+            both => return both,
+        }
+    }
+    (Check::Touches(own), Check::Touches(with))
 }
 
 /// Samples of a segment with steps of at most `step`, each cut into `parts`.

@@ -5,7 +5,9 @@ use crate::plan::{Map, Set};
 
 use rayon::prelude::*;
 
-use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node, Rule, State};
+use super::super::layers::{
+    build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, ModeKey, Node, Rule, State,
+};
 use super::super::mask::Mask;
 use super::super::search::{fewest_removals, fewest_vertices, Found, Lab, Len};
 use super::super::space::{Mode, Space};
@@ -295,7 +297,7 @@ impl<S: Space> RobotPlanner<S> {
     ) -> (Vec<(usize, Option<ObjectSet>)>, u64) {
         let res = self.settings.resolution;
         let (mut out, mut spent) = (Vec::with_capacity(jobs.len()), 0);
-        let mut walking: Vec<(usize, Walk)> = Vec::new();
+        let mut single: Vec<(usize, Walk)> = Vec::new();
         let mut others: Vec<usize> = Vec::new();
         for (i, j) in jobs.iter().enumerate() {
             let walk = match (&j.b, &j.grasp, &j.empty) {
@@ -305,10 +307,11 @@ impl<S: Space> RobotPlanner<S> {
                 _ => None,
             };
             match walk {
-                Some(w) => walking.push((i, w)),
+                Some(w) => single.push((i, w)),
                 None => others.push(i),
             }
         }
+        let mut walking = twins(jobs, single);
         let mut chunk = 1;
         let mut at = 0;
         let mut spoilt = false;
@@ -330,31 +333,45 @@ impl<S: Space> RobotPlanner<S> {
             chunk *= 2;
         }
         while !walking.is_empty() && !spoilt {
-            let done: Vec<(bool, u64)> = walking
+            let done: Vec<((bool, bool), u64)> = walking
                 .par_iter_mut()
-                .map(|(i, w)| {
+                .map(|wk| {
                     let mut c = 0;
-                    let blocked = w.step(&self.space, &jobs[*i].mode, &mut c);
+                    let mode = &jobs[wk.i].mode;
+                    let blocked = match &mut wk.twin {
+                        None => (wk.walk.step(&self.space, mode, &mut c), false),
+                        Some((_, empty)) => wk.walk.step_twin(empty, &self.space, mode, &mut c),
+                    };
                     (blocked, c)
                 })
                 .collect();
             let mut left = Vec::with_capacity(walking.len());
-            for ((i, w), (blocked, c)) in walking.into_iter().zip(done) {
-                spent += c;
+            let mut settle = |i: usize, w: Walk, blocked: bool| {
                 let l = match (blocked, w.done()) {
                     (true, _) => None,
                     (false, true) => Some(w.label),
-                    (false, false) => {
-                        left.push((i, w));
-                        continue;
-                    }
+                    (false, false) => return Some((i, w)),
                 };
                 spoilt |= stakes.spoilt_by(&jobs[i].item, &l);
                 out.push((i, l));
+                None
+            };
+            for (wk, ((blocked, twin_blocked), c)) in walking.into_iter().zip(done) {
+                spent += c;
+                let own = settle(wk.i, wk.walk, blocked);
+                let twin = wk.twin.and_then(|(i, w)| settle(i, w, twin_blocked));
+                match (own, twin) {
+                    (Some((i, walk)), twin) => left.push(Walker { i, walk, twin }),
+                    (None, Some((i, walk))) => left.push(Walker { i, walk, twin: None }),
+                    (None, None) => {}
+                }
             }
             walking = left;
         }
-        walks.extend(walking.into_iter().map(|(i, w)| (jobs[i].item, w)));
+        for wk in walking {
+            walks.insert(jobs[wk.i].item, wk.walk);
+            walks.extend(wk.twin.map(|(i, w)| (jobs[i].item, w)));
+        }
         (out, spent)
     }
 
@@ -461,6 +478,52 @@ struct Walk {
     label: ObjectSet,
 }
 
+/// A walk, and the same edge's walk with the hand empty where this one carries an
+/// object: stepped together, on one placing of the robot per sample (see
+/// `Space::check_samples_twin`).
+struct Walker {
+    i: usize,
+    walk: Walk,
+    twin: Option<(usize, Walk)>,
+}
+
+/// The walks of `jobs`, each carrying edge's paired with the same edge's empty-hand walk
+/// where one is at the same level. The labels are each walk's own: only checks are saved.
+fn twins(jobs: &[Job], single: Vec<(usize, Walk)>) -> Vec<Walker> {
+    let empty_walk = |i: usize| match jobs[i].item {
+        LabelKey::Edge(ModeKey::Empty, a, b) => Some((a, b)),
+        _ => None,
+    };
+    let mut empties: Map<(Node, Node), usize> = Map::default();
+    for (k, (i, _)) in single.iter().enumerate() {
+        if let Some(e) = empty_walk(*i) {
+            empties.insert(e, k);
+        }
+    }
+    let mut partner: Vec<Option<usize>> = vec![None; single.len()];
+    let mut taken = vec![false; single.len()];
+    for (k, (i, w)) in single.iter().enumerate() {
+        let LabelKey::Edge(ModeKey::Carry(..), a, b) = jobs[*i].item else { continue };
+        let Some(&e) = empties.get(&(a, b)) else { continue };
+        let same_level = single[e].1.stride == w.stride && single[e].1.n == w.n;
+        if !taken[e] && same_level && jobs[single[e].0].mode == jobs[*i].mode.empty_of() {
+            taken[e] = true;
+            partner[k] = Some(e);
+        }
+    }
+    let mut slots: Vec<Option<(usize, Walk)>> = single.into_iter().map(Some).collect();
+    let mut out = Vec::with_capacity(slots.len());
+    for k in 0..slots.len() {
+        if taken[k] {
+            continue;
+        }
+        let Some((i, walk)) = slots[k].take() else { continue };
+        let twin = partner[k].and_then(|e| slots[e].take());
+        out.push(Walker { i, walk, twin });
+    }
+    out
+}
+
 impl Walk {
     fn new(a: &[f64], b: &[f64], n: usize) -> Walk {
         let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
@@ -472,16 +535,29 @@ impl Walk {
     /// Checks the next level's samples in turn (see `Space::check_samples`); true at
     /// the first blocked one.
     fn step<S: Space>(&mut self, space: &S, mode: &Mode, checks: &mut u64) -> bool {
+        let c = space.check_samples((&self.a, &self.b), self.n, &mut self.level(), mode, checks);
+        self.advance(c)
+    }
+    /// [`Walk::step`] of this walk, carrying an object in `mode`, and of `empty`, the
+    /// same edge's walk at the same level with the hand empty: (blocked, empty blocked).
+    fn step_twin<S: Space>(&mut self, empty: &mut Walk, space: &S, mode: &Mode, checks: &mut u64) -> (bool, bool) {
+        let level: Vec<usize> = self.level().collect();
+        let (e, c) = space.check_samples_twin((&self.a, &self.b), self.n, &level, mode, checks);
+        (self.advance(c), empty.advance(e))
+    }
+    /// The samples of the next level.
+    fn level(&self) -> impl Iterator<Item = usize> {
         let (n, s) = (self.n, self.stride);
-        let c = match s {
-            0 => space.check_samples((&self.a, &self.b), n, &mut [0, n].into_iter(), mode, checks),
-            _ => space.check_samples((&self.a, &self.b), n, &mut (s..n).step_by(2 * s), mode, checks),
-        };
+        let (from, to, by) = if s == 0 { (0, n, n.max(1)) } else { (s, n - 1, 2 * s) };
+        (from..=to).step_by(by)
+    }
+    /// Joins a level's check; true when it is blocked.
+    fn advance(&mut self, c: Check) -> bool {
         match c {
             Check::Touches(l) => self.label.union_with(&l),
             Check::Blocked(_) => return true,
         }
-        self.stride = if s == 0 { usize::MAX } else { s / 2 };
+        self.stride = if self.stride == 0 { usize::MAX } else { self.stride / 2 };
         false
     }
 }

@@ -90,3 +90,72 @@ fn a_walk_stops_at_a_blocked_sample() {
     assert_eq!(seen, vec![64, 32, 96, 16, 48]);
     assert_eq!(checks, 5);
 }
+
+/// A carrying edge's walk is stepped with the same edge's empty-hand walk when that is in
+/// the same batch at the same level and in the carrying mode's empty hand; every other
+/// walk goes alone, and each walk keeps its own job.
+#[test]
+fn twins_pair_a_carrying_walk_with_its_edges_empty_hand_walk_at_the_same_level() {
+    let o = ObjectId(0);
+    let held = Mode {
+        absent: crate::world::ObjectSet::single(o),
+        held: Some(Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }),
+    };
+    let (m1, m2, m3, m4) = (Node::Map(1), Node::Map(2), Node::Map(3), Node::Map(4));
+    let job = |item, mode: &Mode| Job {
+        item,
+        a: vec![0.0],
+        b: Some(vec![8.0]),
+        mode: mode.clone(),
+        grasp: None,
+        empty: None,
+    };
+    let empty = Mode::default();
+    let mut elsewhere = empty.clone();
+    elsewhere.absent.insert(ObjectId(1));
+    let jobs = vec![
+        job(LabelKey::Edge(ModeKey::Empty, m1, m2), &empty),
+        job(LabelKey::Edge(ModeKey::Carry(o, 0), m1, m2), &held),
+        // A second grasp of the same edge: its empty-hand walk is taken.
+        job(LabelKey::Edge(ModeKey::Carry(o, 1), m1, m2), &held),
+        // The same edge's empty-hand walk a level further on.
+        job(LabelKey::Edge(ModeKey::Empty, m2, m3), &empty),
+        job(LabelKey::Edge(ModeKey::Carry(o, 0), m2, m3), &held),
+        // No empty-hand walk of this edge.
+        job(LabelKey::Edge(ModeKey::Carry(o, 0), m3, m4), &held),
+    ];
+    let space = Line { seen: Mutex::new(Vec::new()), blocked: None };
+    let mut walks: Vec<(usize, Walk)> = (0..jobs.len()).map(|i| (i, Walk::new(&[0.0], &[8.0], 8))).collect();
+    assert!(!walks[3].1.step(&space, &empty, &mut 0));
+    let walkers = twins(&jobs, walks);
+    let pairs: Vec<(usize, Option<usize>)> = walkers.iter().map(|w| (w.i, w.twin.as_ref().map(|t| t.0))).collect();
+    assert_eq!(pairs, vec![(1, Some(0)), (2, None), (3, None), (4, None), (5, None)]);
+    // The empty hand's mode must be the carrying one's with the object back in place.
+    let mut jobs = jobs;
+    jobs[0].mode = elsewhere;
+    walks = (0..jobs.len()).map(|i| (i, Walk::new(&[0.0], &[8.0], 8))).collect();
+    let pairs: Vec<(usize, Option<usize>)> =
+        twins(&jobs, walks).iter().map(|w| (w.i, w.twin.as_ref().map(|t| t.0))).collect();
+    assert_eq!(pairs, vec![(0, None), (1, None), (2, None), (4, Some(3)), (5, None)]);
+}
+
+/// A twin step steps both walks over the same level: each its own label and block.
+#[test]
+fn a_twin_step_walks_both_levels_and_blocks_each_on_its_own() {
+    let o = ObjectId(0);
+    let held = Mode {
+        absent: crate::world::ObjectSet::single(o),
+        held: Some(Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }),
+    };
+    let space = Line { seen: Mutex::new(Vec::new()), blocked: Some(6) };
+    let (mut carry, mut empty) = (Walk::new(&[0.0], &[8.0], 8), Walk::new(&[0.0], &[8.0], 8));
+    let mut checks = 0;
+    // Strides 4 (4), then 2 (2, 6): 6 is blocked in both modes of `Line`.
+    assert_eq!(carry.step_twin(&mut empty, &space, &held, &mut checks), (false, false));
+    assert_eq!((carry.stride, empty.stride), (2, 2));
+    assert_eq!(carry.step_twin(&mut empty, &space, &held, &mut checks), (true, true));
+    let seen = space.seen.into_inner().unwrap_or_else(|p| p.into_inner());
+    // `Line` takes the default: the empty hand's samples, then the carrying ones.
+    assert_eq!(seen, vec![4, 4, 2, 6, 2, 6]);
+    assert_eq!(checks, 6);
+}
