@@ -2,8 +2,10 @@
 //! (`World::check_samples_twin`: how the planner walks an edge that a path takes both
 //! ways, out with the hand empty and back carrying) against the two checks they stand
 //! for: the same answers, blockers named alike, on random segments of the shipped
-//! examples, carrying every object by its reachable grasps; and where the fingers hold
-//! the object open, as in the empty hand, each sample checked once for both.
+//! examples, carrying every object by its reachable grasps, for the coarse samples and for
+//! the certifying ones the coarse check leaves (`World::check_motion_rest_twin`); and
+//! where the fingers hold the object open, as in the empty hand, each sample checked once
+//! for both.
 
 use std::path::Path;
 
@@ -62,7 +64,7 @@ fn compare(example: &str, segments_per_grasp: usize, seen: &mut Seen) {
                     let twin = CheckCtx::with_held(absent.clone(), held.clone());
                     let (e, c) = w.check_samples_twin(r, (&a, &b), n, &indices, &twin);
                     let (empty, carry) =
-                        (CheckCtx::with_absent(absent.clone()), CheckCtx::with_held(absent, held.clone()));
+                        (CheckCtx::with_absent(absent.clone()), CheckCtx::with_held(absent.clone(), held.clone()));
                     let want_e = w.check_samples(r, (&a, &b), n, &mut indices.iter().copied(), &empty);
                     let want_c = w.check_samples(r, (&a, &b), n, &mut indices.iter().copied(), &carry);
                     let at = format!("{example}, robot {r:?}, object {o:?}, grasp {}: {a:?} -> {b:?}, n {n}", g.grasp);
@@ -74,6 +76,18 @@ fn compare(example: &str, segments_per_grasp: usize, seen: &mut Seen) {
                         seen.closed += 1;
                         assert_eq!(twin.count(), empty.count() + carry.count(), "{at}");
                     }
+                    // The certifying samples the coarse check does not take, alike.
+                    let res = 0.02 + 0.1 * rng.random::<f64>();
+                    let (twin, empty, carry) = (
+                        CheckCtx::with_held(absent.clone(), held.clone()),
+                        CheckCtx::with_absent(absent.clone()),
+                        CheckCtx::with_held(absent.clone(), held.clone()),
+                    );
+                    let (re, rc) = w.check_motion_rest_twin(r, &a, &b, res, &twin);
+                    assert_eq!(re, w.check_motion_rest(r, &a, &b, res, &empty), "rest, empty hand, {at}");
+                    assert_eq!(rc, w.check_motion_rest(r, &a, &b, res, &carry), "rest, carrying, {at}");
+                    let counted = empty.count() + if held.posture == OPEN_POSTURE { 0 } else { carry.count() };
+                    assert_eq!(twin.count(), counted, "rest, {at}");
                     match (&e, &c) {
                         (Check::Touches(x), Check::Touches(y)) if !x.is_empty() && !y.is_empty() => seen.touching += 1,
                         (Check::Touches(_), Check::Blocked(_)) => seen.carry_blocked += 1,

@@ -111,6 +111,19 @@ impl Space for RobotSpace<'_> {
         *checks += c.count();
         out
     }
+    fn check_motion_rest_twin(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        resolution: f64,
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> (Check, Check) {
+        let c = ctx(mode);
+        let out = self.world.check_motion_rest_twin(self.robot, a, b, resolution, &c);
+        *checks += c.count();
+        out
+    }
     fn home(&self) -> &[f64] {
         self.world.home(self.robot)
     }

@@ -109,6 +109,19 @@ pub trait Space: Sync {
     fn check_motion_rest(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
         self.check_motion(a, b, resolution, mode, checks)
     }
+    /// `check_motion_rest` of the same segment in [`Mode::empty_of`]`(mode)` and in
+    /// `mode`: (the empty hand's, the carrying one's), as `check_samples_twin`.
+    fn check_motion_rest_twin(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        resolution: f64,
+        mode: &Mode,
+        checks: &mut u64,
+    ) -> (Check, Check) {
+        let empty = self.check_motion_rest(a, b, resolution, &mode.empty_of(), checks);
+        (empty, self.check_motion_rest(a, b, resolution, mode, checks))
+    }
     fn home(&self) -> &[f64];
     /// Where a carried object is released (often `home`).
     fn drop_config(&self) -> &[f64];

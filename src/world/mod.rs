@@ -289,6 +289,18 @@ impl World {
     ) -> (Check, Check) {
         segment::label_samples_twin(self, r, ends, n, indices, carry)
     }
+    /// [`World::check_motion_rest`] of the same segment with the hand empty and in
+    /// `carry`, as [`World::check_samples_twin`] takes them.
+    pub fn check_motion_rest_twin(
+        &self,
+        r: RobotId,
+        a: &[f64],
+        b: &[f64],
+        resolution: f64,
+        carry: &CheckCtx,
+    ) -> (Check, Check) {
+        segment::check_motion_rest_twin(self, r, (a, b), (resolution, CERTIFY_PARTS), carry)
+    }
     /// The check that certifies a motion, for the verifier and the planner alike: the
     /// planner's steps of at most `resolution`, each cut into [`CERTIFY_PARTS`], so every
     /// sample of the coarse check is among them. Panics if `a` or `b` is not

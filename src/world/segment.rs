@@ -50,6 +50,21 @@ pub(crate) fn check_motion_rest(
     segment_coarse_to_fine(w, r, a, b, (step, parts.max(2)), ctx, (true, (false, false)))
 }
 
+/// [`check_motion_rest`] of the same samples with the hand empty and in `carry` (see
+/// [`label_samples_twin`]).
+pub(crate) fn check_motion_rest_twin(
+    w: &World,
+    r: RobotId,
+    (a, b): (&[f64], &[f64]),
+    (step, parts): (f64, usize),
+    carry: &CheckCtx,
+) -> (Check, Check) {
+    let parts = parts.max(2);
+    let n = steps(a, b, step, parts);
+    let indices: Vec<usize> = coarse_to_fine(n).filter(|&i| i % parts != 0).collect();
+    label_samples_twin(w, r, (a, b), n, &indices, carry)
+}
+
 /// Sample `i` of `steps(a, b, step, parts) + 1` is skipped when `parts > 1` and `i` is a
 /// multiple of `parts` (see [`check_motion_rest`]), and sample 0 or `n` (`a` or `b`) when
 /// flagged in `known` (see [`check_segment_known`]).

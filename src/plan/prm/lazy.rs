@@ -5,22 +5,24 @@ use crate::plan::{Map, Set};
 
 use rayon::prelude::*;
 
-use super::super::layers::{
-    build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, ModeKey, Node, Rule, State,
-};
+use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoal, Job, LabelKey, Node, Rule, State};
 use super::super::mask::Mask;
 use super::super::search::{fewest_removals, fewest_vertices, Found, Lab, Len};
 use super::super::space::{Mode, Space};
+use super::walk::{pair_twins, twins, Walk, Walker};
 use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
 use crate::world::{Check, ObjectSet, OPEN_POSTURE};
 
 /// The stored coarse label a certification of `j`'s item may build on (see
-/// [`Pass::Rest`]): none for a carrying edge whose empty-hand label is known, which may
-/// have had its coarse label from it (labels are only ever added), with the fingers open
-/// rather than closed on the object.
+/// [`Pass::Rest`]): none for a carrying edge whose empty-hand label is known and whose
+/// fingers close on the object, which may have had its coarse label from the empty
+/// hand's (labels are only ever added), with the fingers open rather than closed. Where
+/// they hold it open, as in the empty hand, that label is the carrying check's own: the
+/// arm's own contacts are the same, less the object.
 pub(super) fn coarse_for_rest(s: &State, j: &Job) -> Option<ObjectSet> {
-    lookup(s, j.item).flatten().filter(|_| j.empty.is_none())
+    let open = j.mode.held.as_ref().is_none_or(|h| h.posture == OPEN_POSTURE);
+    lookup(s, j.item).flatten().filter(|_| j.empty.is_none() || open)
 }
 
 /// How [`RobotPlanner::eval`] checks an item's segments.
@@ -399,19 +401,48 @@ impl<S: Space> RobotPlanner<S> {
             },
             checks,
         );
-        let results: Vec<(Option<ObjectSet>, u64)> = jobs
+        // A carrying edge and the same edge with the hand empty, both built on coarse
+        // labels, are certified on one walk of their samples (as they were labelled).
+        let items: Vec<&Job> = jobs.iter().map(|(j, _)| j).collect();
+        let partner = pair_twins(&items, |c, e| jobs[c].1.is_some() && jobs[e].1.is_some());
+        let mut is_twin = vec![false; jobs.len()];
+        partner.iter().flatten().for_each(|&e| is_twin[e] = true);
+        let units: Vec<(usize, Option<usize>)> =
+            (0..jobs.len()).filter(|&k| !is_twin[k]).map(|k| (k, partner[k])).collect();
+        let done: Vec<(Option<ObjectSet>, Option<Option<ObjectSet>>, u64)> = units
             .par_iter()
-            .map(|(j, coarse)| {
+            .map(|&(k, twin)| {
                 let mut c = 0;
-                let pass = coarse.as_ref().map_or(Pass::Fine, Pass::Rest);
-                (self.eval(j, pass, &mut c), c)
+                let (j, coarse) = &jobs[k];
+                match (twin.and_then(|e| jobs[e].1.as_ref()), coarse, &j.b) {
+                    (Some(empty_coarse), Some(coarse), Some(b)) => {
+                        let res = self.settings.resolution;
+                        let (empty, carry) = self.space.check_motion_rest_twin(&j.a, b, res, &j.mode, &mut c);
+                        let join = |c: Check, coarse: &ObjectSet| match c {
+                            Check::Touches(l) => Some(l.union(coarse)),
+                            Check::Blocked(_) => None,
+                        };
+                        (join(carry, coarse), Some(join(empty, empty_coarse)), c)
+                    }
+                    _ => {
+                        let pass = coarse.as_ref().map_or(Pass::Fine, Pass::Rest);
+                        (self.eval(j, pass, &mut c), None, c)
+                    }
+                }
             })
             .collect();
-        *checks += results.iter().map(|r| r.1).sum::<u64>();
+        let mut results: Vec<Option<ObjectSet>> = vec![None; jobs.len()];
+        for (&(k, twin), (l, twin_l, c)) in units.iter().zip(done) {
+            *checks += c;
+            results[k] = l;
+            if let (Some(e), Some(l)) = (twin, twin_l) {
+                results[e] = l;
+            }
+        }
         self.lock(
             |s| {
                 let mut changed = Map::default();
-                for ((j, _), (l, _)) in jobs.iter().zip(results) {
+                for ((j, _), l) in jobs.iter().zip(results) {
                     s.certified.insert(j.item);
                     if lookup(s, j.item).as_ref() != Some(&l) {
                         store(s, j.item, l.clone());
@@ -461,105 +492,6 @@ fn ends_inwards<T>(items: Vec<T>) -> impl Iterator<Item = T> {
             true => items.pop_back(),
         }
     })
-}
-
-/// An edge's samples being checked level by level: those inside coarse to fine (level
-/// `k` halving the gaps the levels before it left, as `check_segment` goes), then its
-/// two ends. A segment blocked anywhere is found after about as many checks as its own
-/// check would take, whichever edge of a path it is, and every sample is checked once.
-struct Walk {
-    a: Vec<f64>,
-    b: Vec<f64>,
-    /// The segment's steps: samples `0..=n` (see `world::segment_sample`).
-    n: usize,
-    /// The next level's stride; 0 for the ends, `usize::MAX` once they are checked.
-    stride: usize,
-    /// The labels of the samples checked.
-    label: ObjectSet,
-}
-
-/// A walk, and the same edge's walk with the hand empty where this one carries an
-/// object: stepped together, on one placing of the robot per sample (see
-/// `Space::check_samples_twin`).
-struct Walker {
-    i: usize,
-    walk: Walk,
-    twin: Option<(usize, Walk)>,
-}
-
-/// The walks of `jobs`, each carrying edge's paired with the same edge's empty-hand walk
-/// where one is at the same level. The labels are each walk's own: only checks are saved.
-fn twins(jobs: &[Job], single: Vec<(usize, Walk)>) -> Vec<Walker> {
-    let empty_walk = |i: usize| match jobs[i].item {
-        LabelKey::Edge(ModeKey::Empty, a, b) => Some((a, b)),
-        _ => None,
-    };
-    let mut empties: Map<(Node, Node), usize> = Map::default();
-    for (k, (i, _)) in single.iter().enumerate() {
-        if let Some(e) = empty_walk(*i) {
-            empties.insert(e, k);
-        }
-    }
-    let mut partner: Vec<Option<usize>> = vec![None; single.len()];
-    let mut taken = vec![false; single.len()];
-    for (k, (i, w)) in single.iter().enumerate() {
-        let LabelKey::Edge(ModeKey::Carry(..), a, b) = jobs[*i].item else { continue };
-        let Some(&e) = empties.get(&(a, b)) else { continue };
-        let same_level = single[e].1.stride == w.stride && single[e].1.n == w.n;
-        if !taken[e] && same_level && jobs[single[e].0].mode == jobs[*i].mode.empty_of() {
-            taken[e] = true;
-            partner[k] = Some(e);
-        }
-    }
-    let mut slots: Vec<Option<(usize, Walk)>> = single.into_iter().map(Some).collect();
-    let mut out = Vec::with_capacity(slots.len());
-    for k in 0..slots.len() {
-        if taken[k] {
-            continue;
-        }
-        let Some((i, walk)) = slots[k].take() else { continue };
-        let twin = partner[k].and_then(|e| slots[e].take());
-        out.push(Walker { i, walk, twin });
-    }
-    out
-}
-
-impl Walk {
-    fn new(a: &[f64], b: &[f64], n: usize) -> Walk {
-        let top = n.checked_next_power_of_two().unwrap_or(usize::MAX / 2 + 1);
-        Walk { a: a.to_vec(), b: b.to_vec(), n, stride: top / 2, label: ObjectSet::new() }
-    }
-    fn done(&self) -> bool {
-        self.stride == usize::MAX
-    }
-    /// Checks the next level's samples in turn (see `Space::check_samples`); true at
-    /// the first blocked one.
-    fn step<S: Space>(&mut self, space: &S, mode: &Mode, checks: &mut u64) -> bool {
-        let c = space.check_samples((&self.a, &self.b), self.n, &mut self.level(), mode, checks);
-        self.advance(c)
-    }
-    /// [`Walk::step`] of this walk, carrying an object in `mode`, and of `empty`, the
-    /// same edge's walk at the same level with the hand empty: (blocked, empty blocked).
-    fn step_twin<S: Space>(&mut self, empty: &mut Walk, space: &S, mode: &Mode, checks: &mut u64) -> (bool, bool) {
-        let level: Vec<usize> = self.level().collect();
-        let (e, c) = space.check_samples_twin((&self.a, &self.b), self.n, &level, mode, checks);
-        (self.advance(c), empty.advance(e))
-    }
-    /// The samples of the next level.
-    fn level(&self) -> impl Iterator<Item = usize> {
-        let (n, s) = (self.n, self.stride);
-        let (from, to, by) = if s == 0 { (0, n, n.max(1)) } else { (s, n - 1, 2 * s) };
-        (from..=to).step_by(by)
-    }
-    /// Joins a level's check; true when it is blocked.
-    fn advance(&mut self, c: Check) -> bool {
-        match c {
-            Check::Touches(l) => self.label.union_with(&l),
-            Check::Blocked(_) => return true,
-        }
-        self.stride = if self.stride == 0 { usize::MAX } else { self.stride / 2 };
-        false
-    }
 }
 
 #[cfg(test)]

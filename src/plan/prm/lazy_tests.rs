@@ -3,6 +3,7 @@
 use std::sync::Mutex;
 
 use super::*;
+use crate::plan::layers::ModeKey;
 use crate::world::{Config, GraspConfig, Held};
 
 /// One joint from 0 to `n` in steps of 1: sample `i` is the configuration `[i]`; the

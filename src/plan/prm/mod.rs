@@ -21,6 +21,7 @@ mod lazy;
 mod shortcut;
 #[cfg(test)]
 mod tests;
+mod walk;
 
 use crate::plan::{Map, Set};
 use std::sync::Mutex;

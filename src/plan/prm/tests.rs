@@ -568,8 +568,9 @@ fn grasp_queries_go_through_the_hole_there_and_back() {
 /// certifying check gives: for every labelled edge and approach of every query of three
 /// examples (the gripper's carrying edges and closing fingers among them), the coarse
 /// label joined with the rest against the whole check. A carrying edge whose coarse label
-/// comes from its empty-hand label is not built on (`coarse_for_rest`), and must not be:
-/// on `gripper` the open fingers touch bottles the closed ones do not.
+/// may come from its empty-hand label is built on only where the fingers hold the object
+/// open, as in the empty hand (`coarse_for_rest`); where they close on it, it must not
+/// be: on `gripper` the open fingers touch bottles the closed ones do not.
 #[test]
 fn certification_from_a_coarse_label_is_the_whole_certifying_check() {
     use super::super::layers::{job, LabelKey};
@@ -613,6 +614,6 @@ fn certification_from_a_coarse_label_is_the_whole_certifying_check() {
             }
         }
     }
-    assert!(built_on > 100 && not_built_on > 10, "{built_on} built on, {not_built_on} not");
+    assert!(built_on > 100 && not_built_on > 0, "{built_on} built on, {not_built_on} not");
     assert!(would_differ > 0, "no carrying edge's empty-hand label differs from its own check");
 }
