@@ -229,7 +229,7 @@ pub(super) fn check_twin(w: &World, r: RobotId, q: &[f64], empty: &CheckCtx, car
         let mut s = cell.borrow_mut();
         pose_robot(m, q, OPEN, &mut s);
         let own = check_posed(w, m, empty, &mut s, true, (q, OPEN));
-        let held = match &own {
+        let carrying = match &own {
             Check::Touches(l) => match check_posed(w, m, carry, &mut s, false, (q, OPEN)) {
                 Check::Touches(mut h) => {
                     let mut own = l.clone();
@@ -245,7 +245,7 @@ pub(super) fn check_twin(w: &World, r: RobotId, q: &[f64], empty: &CheckCtx, car
             blocked => blocked.clone(),
         };
         count_placed(empty, &s);
-        (own, held)
+        (own, carrying)
     })
 }
 

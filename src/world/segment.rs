@@ -155,6 +155,8 @@ pub(super) fn label_samples_twin(
     out
 }
 
+/// [`label_samples_twin`] with the fingers open: one [`check_twin`] per sample while
+/// neither is blocked, then the empty hand's check alone.
 fn twin_samples(
     w: &World,
     r: RobotId,
