@@ -92,16 +92,21 @@ fn a_walk_stops_at_a_blocked_sample() {
     assert_eq!(checks, 5);
 }
 
+/// Carrying `o` with the fingers open.
+fn carrying(o: ObjectId) -> Mode {
+    Mode {
+        absent: crate::world::ObjectSet::single(o),
+        held: Some(Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }),
+    }
+}
+
 /// A carrying edge's walk is stepped with the same edge's empty-hand walk when that is in
 /// the same batch at the same level and in the carrying mode's empty hand; every other
 /// walk goes alone, and each walk keeps its own job.
 #[test]
 fn twins_pair_a_carrying_walk_with_its_edges_empty_hand_walk_at_the_same_level() {
     let o = ObjectId(0);
-    let held = Mode {
-        absent: crate::world::ObjectSet::single(o),
-        held: Some(Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }),
-    };
+    let held = carrying(o);
     let (m1, m2, m3, m4) = (Node::Map(1), Node::Map(2), Node::Map(3), Node::Map(4));
     let job = |item, mode: &Mode| Job {
         item,
@@ -143,11 +148,7 @@ fn twins_pair_a_carrying_walk_with_its_edges_empty_hand_walk_at_the_same_level()
 /// A twin step steps both walks over the same level: each its own label and block.
 #[test]
 fn a_twin_step_walks_both_levels_and_blocks_each_on_its_own() {
-    let o = ObjectId(0);
-    let held = Mode {
-        absent: crate::world::ObjectSet::single(o),
-        held: Some(Held { object: o, pose_flange_object: nalgebra::Isometry3::identity(), posture: 0 }),
-    };
+    let held = carrying(ObjectId(0));
     let space = Line { seen: Mutex::new(Vec::new()), blocked: Some(6) };
     let (mut carry, mut empty) = (Walk::new(&[0.0], &[8.0], 8), Walk::new(&[0.0], &[8.0], 8));
     let mut checks = 0;
