@@ -23,6 +23,14 @@ fn ctx(mode: &Mode) -> CheckCtx {
     CheckCtx { absent: mode.absent.clone(), held: mode.held.clone(), ..CheckCtx::default() }
 }
 
+/// `f` in `mode`'s context, its configurations added to `checks`.
+fn counted<T>(mode: &Mode, checks: &mut u64, f: impl FnOnce(&CheckCtx) -> T) -> T {
+    let c = ctx(mode);
+    let out = f(&c);
+    *checks += c.count();
+    out
+}
+
 impl Space for RobotSpace<'_> {
     fn dof(&self) -> usize {
         self.world.dof(self.robot)
@@ -34,22 +42,13 @@ impl Space for RobotSpace<'_> {
         self.world.limits(self.robot)
     }
     fn check(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check(self.robot, q, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check(self.robot, q, c))
     }
     fn touches_nothing(&self, q: &[f64], mode: &Mode, checks: &mut u64) -> bool {
-        let c = ctx(mode);
-        let out = self.world.touches_nothing(self.robot, q, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.touches_nothing(self.robot, q, c))
     }
     fn check_segment(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_segment(self.robot, a, b, step, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_segment(self.robot, a, b, step, c))
     }
     fn segment_steps(&self, a: &[f64], b: &[f64], step: f64) -> Option<usize> {
         Some(crate::world::segment_steps(a, b, step, 1))
@@ -62,10 +61,7 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_samples(self.robot, ends, n, indices, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_samples(self.robot, ends, n, indices, c))
     }
     fn check_samples_twin(
         &self,
@@ -75,10 +71,7 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> (Check, Check) {
-        let c = ctx(mode);
-        let out = self.world.check_samples_twin(self.robot, ends, n, indices, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_samples_twin(self.robot, ends, n, indices, c))
     }
     fn check_segment_known(
         &self,
@@ -88,28 +81,16 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_segment_known(self.robot, ends, step, known, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_segment_known(self.robot, ends, step, known, c))
     }
     fn check_segment_held(&self, a: &[f64], b: &[f64], step: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_segment_held(self.robot, a, b, step, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_segment_held(self.robot, a, b, step, c))
     }
     fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_motion(self.robot, a, b, resolution, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_motion(self.robot, a, b, resolution, c))
     }
     fn check_motion_rest(&self, a: &[f64], b: &[f64], resolution: f64, mode: &Mode, checks: &mut u64) -> Check {
-        let c = ctx(mode);
-        let out = self.world.check_motion_rest(self.robot, a, b, resolution, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_motion_rest(self.robot, a, b, resolution, c))
     }
     fn check_motion_rest_twin(
         &self,
@@ -119,10 +100,7 @@ impl Space for RobotSpace<'_> {
         mode: &Mode,
         checks: &mut u64,
     ) -> (Check, Check) {
-        let c = ctx(mode);
-        let out = self.world.check_motion_rest_twin(self.robot, a, b, resolution, &c);
-        *checks += c.count();
-        out
+        counted(mode, checks, |c| self.world.check_motion_rest_twin(self.robot, a, b, resolution, c))
     }
     fn home(&self) -> &[f64] {
         self.world.home(self.robot)

@@ -9,7 +9,7 @@ use super::super::layers::{build, exact_set, job, lookup, store, Built, GraspGoa
 use super::super::mask::Mask;
 use super::super::search::{fewest_removals, fewest_vertices, Found, Lab, Len};
 use super::super::space::{Mode, Space};
-use super::walk::{pair_twins, twins, Walk, Walker};
+use super::walk::{twin_units, twins, Walk, Walker};
 use super::{key, vkey, Cand, RobotPlanner};
 use crate::resolve::{ObjectId, Objective};
 use crate::world::{Check, ObjectSet, OPEN_POSTURE};
@@ -404,11 +404,7 @@ impl<S: Space> RobotPlanner<S> {
         // A carrying edge and the same edge with the hand empty, both built on coarse
         // labels, are certified on one walk of their samples (as they were labelled).
         let items: Vec<&Job> = jobs.iter().map(|(j, _)| j).collect();
-        let partner = pair_twins(&items, |c, e| jobs[c].1.is_some() && jobs[e].1.is_some());
-        let mut is_twin = vec![false; jobs.len()];
-        partner.iter().flatten().for_each(|&e| is_twin[e] = true);
-        let units: Vec<(usize, Option<usize>)> =
-            (0..jobs.len()).filter(|&k| !is_twin[k]).map(|k| (k, partner[k])).collect();
+        let units = twin_units(&items, |c, e| jobs[c].1.is_some() && jobs[e].1.is_some());
         let done: Vec<(Option<ObjectSet>, Option<Option<ObjectSet>>, u64)> = units
             .par_iter()
             .map(|&(k, twin)| {

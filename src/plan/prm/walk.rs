@@ -35,27 +35,22 @@ pub(super) struct Walker {
 /// where one is at the same level. The labels are each walk's own: only checks are saved.
 pub(super) fn twins(jobs: &[Job], single: Vec<(usize, Walk)>) -> Vec<Walker> {
     let items: Vec<&Job> = single.iter().map(|(i, _)| &jobs[*i]).collect();
-    let partner = pair_twins(&items, |c, e| single[c].1.stride == single[e].1.stride && single[c].1.n == single[e].1.n);
-    let mut is_twin = vec![false; single.len()];
-    partner.iter().flatten().for_each(|&e| is_twin[e] = true);
+    let units = twin_units(&items, |c, e| single[c].1.stride == single[e].1.stride && single[c].1.n == single[e].1.n);
     let mut slots: Vec<Option<(usize, Walk)>> = single.into_iter().map(Some).collect();
-    let mut out = Vec::with_capacity(slots.len());
-    for k in 0..slots.len() {
-        if is_twin[k] {
-            continue;
-        }
+    let mut out = Vec::with_capacity(units.len());
+    for (k, twin) in units {
         let Some((i, walk)) = slots[k].take() else { continue };
-        let twin = partner[k].and_then(|e| slots[e].take());
+        let twin = twin.and_then(|e| slots[e].take());
         out.push(Walker { i, walk, twin });
     }
     out
 }
 
-/// For each of `items`, the position in `items` of the same edge's empty-hand item it is
-/// paired with: carrying edges only, each empty-hand item at most
-/// once, in the carrying mode's empty hand (the object back in place) and where
-/// `fits(carrying position, empty-hand position)`.
-pub(super) fn pair_twins(items: &[&Job], fits: impl Fn(usize, usize) -> bool) -> Vec<Option<usize>> {
+/// `items` as units to check: each position in `items` with the position of the same
+/// edge's empty-hand item paired with it, the paired ones not on their own. Only carrying
+/// edges are paired, each empty-hand item at most once, in the carrying mode's empty hand
+/// (the object back in place) and where `fits(carrying position, empty-hand position)`.
+pub(super) fn twin_units(items: &[&Job], fits: impl Fn(usize, usize) -> bool) -> Vec<(usize, Option<usize>)> {
     let mut empties: Map<(Node, Node), usize> = Map::default();
     for (k, j) in items.iter().enumerate() {
         if let LabelKey::Edge(ModeKey::Empty, a, b) = j.item {
@@ -63,16 +58,18 @@ pub(super) fn pair_twins(items: &[&Job], fits: impl Fn(usize, usize) -> bool) ->
         }
     }
     let mut partner: Vec<Option<usize>> = vec![None; items.len()];
+    let mut paired = vec![false; items.len()];
     for (k, j) in items.iter().enumerate() {
         let LabelKey::Edge(ModeKey::Carry(..), a, b) = j.item else { continue };
         let Some(e) = empties.remove(&(a, b)) else { continue };
         if fits(k, e) && items[e].mode == j.mode.empty_of() {
             partner[k] = Some(e);
+            paired[e] = true;
         } else {
             empties.insert((a, b), e);
         }
     }
-    partner
+    (0..items.len()).filter(|&k| !paired[k]).map(|k| (k, partner[k])).collect()
 }
 
 impl Walk {
