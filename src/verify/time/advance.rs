@@ -8,12 +8,12 @@
 //! could set the answer are measured again. The answer is the same as measuring every
 //! pair afresh at every instant: the replay's instants do not change, only their cost.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 
+mod expiry;
 mod pairs;
+
+use expiry::Expiries;
 
 use super::scene::{depth_slack, Cell, RobotAt, Scratch, Side};
 use crate::resolve::ObjectId;
@@ -66,6 +66,14 @@ impl Movers {
             Movers::Robots(a, b) => [a, b],
         }
     }
+}
+
+/// A pair taken off the queue: its index, its expiry and stamp then.
+#[derive(Clone, Copy)]
+struct Taken {
+    k: u32,
+    expires: f64,
+    stamp: u32,
 }
 
 /// One pair: its sides, the distance it must keep, and the index of its movers.
@@ -130,14 +138,15 @@ pub(super) struct Memory {
     /// for there (a unit of balls is in many pairs, each asking for its box).
     unit_box: Vec<Vec<(u64, Aabb)>>,
     /// Every pair whose movers move, by the instant its bound runs out on this stretch (its
-    /// *expiry*, slack plus odometer at the measure, reached at the movers' speed), least
-    /// first: one queue for all movers, since on one stretch every odometer grows at a
-    /// constant rate. An entry is current while its stamp is its pair's; a measure stamps
-    /// the pair anew and queues it again; a new stretch queues every pair afresh.
-    queue: BinaryHeap<Reverse<Entry>>,
+    /// *expiry*, slack plus odometer at the measure, reached at the movers' speed): one
+    /// queue for all movers, since on one stretch every odometer grows at a constant rate.
+    /// A measure queues the pair anew; a new stretch queues every pair afresh.
+    queue: Expiries,
+    /// Per pair: how many times it was queued, so that a pair taken off and queued anew
+    /// at the same instant is put back with its new expiry, not the one it was taken with.
     stamp: Vec<u32>,
-    /// Entries taken off the queue this instant, to be put back.
-    taken: Vec<Entry>,
+    /// Pairs taken off the queue this instant, to be put back.
+    taken: Vec<Taken>,
     /// The pairs changed since the last instant: the next one measures them all.
     fresh: bool,
     /// Take every pair's bound at every instant, not only the queue's front, and every
@@ -161,54 +170,6 @@ pub(super) struct Motion<'a> {
     pub odometers: &'a [Vec<f64>],
     pub until: f64,
     pub ends: &'a [Vec<f64>],
-}
-
-/// A queued pair: the time its bound runs out, a little early, index and stamp, packed
-/// into one integer ordered as (`f64::total_cmp` of the time, index, stamp): a queue of
-/// a few thousand pairs compares these at every level of every push and pop (a tenth of
-/// `box_lid`'s compile went to the queue when they were compared field by field).
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Entry(u128);
-
-const SIGN: u64 = 1 << 63;
-
-/// What `f64::total_cmp` flips of a number's bits before comparing them as a signed
-/// integer: a negative number's magnitude bits.
-fn magnitude_flip(bits: u64) -> u64 {
-    if bits & SIGN != 0 {
-        !SIGN
-    } else {
-        0
-    }
-}
-
-/// `f64::total_cmp`'s order as an unsigned integer's: the magnitude flipped as
-/// `total_cmp` does, then the sign bit flipped (a signed order made unsigned).
-fn ordered_bits(bits: u64) -> u64 {
-    bits ^ magnitude_flip(bits) ^ SIGN
-}
-
-impl Entry {
-    fn new(expires: f64, k: u32, stamp: u32) -> Entry {
-        let key = ordered_bits(expires.to_bits());
-        Entry(u128::from(key) << 64 | u128::from(k) << 32 | u128::from(stamp))
-    }
-    fn expires(self) -> f64 {
-        f64::from_bits(unordered_bits((self.0 >> 64) as u64))
-    }
-    fn k(self) -> u32 {
-        (self.0 >> 32) as u32
-    }
-    fn stamp(self) -> u32 {
-        self.0 as u32
-    }
-}
-
-/// The inverse of [`ordered_bits`] (the flip depends on the sign bit alone, which it
-/// leaves as it is).
-fn unordered_bits(key: u64) -> u64 {
-    let bits = key ^ SIGN;
-    bits ^ magnitude_flip(bits)
 }
 
 /// How far an expiry computed as `slack + odometer` may stray from the bound's own
@@ -288,76 +249,70 @@ impl Memory {
         self.standing.dedup();
     }
 
-    /// Pair `k` measured: stamp it and queue it by when its bound runs out (a pair whose
-    /// movers stand still is not queued: its bound is infinite while they do).
+    /// Pair `k` measured: stamp it and queue it by when its bound runs out.
     fn requeue(&mut self, k: usize) {
         self.stamp[k] = self.stamp[k].wrapping_add(1);
+        let e = self.expiry(k);
+        self.queue.set(k, e);
+    }
+
+    /// When pair `k`'s bound runs out on this stretch; NaN (not queued) when its movers
+    /// stand still: its bound is infinite while they do.
+    fn expiry(&self, k: usize) -> f64 {
         let g = self.pairs[k].movers;
         if self.speed[g] <= 0.0 || self.speed[g].is_nan() {
-            return;
+            return f64::NAN;
         }
         // A pair not measured yet (its movers stood still so far) is taken as soon as they
         // move, to take its boxes' gap as the full pass does. A NaN bound is never below
         // anything (the full pass never measures it): last. Otherwise the instant the
         // odometer reaches the expiry, made earlier by twice the slop so that rounding
         // never leaves a pair in the queue that the full pass would take.
-        let expires = match self.measured[k] {
+        match self.measured[k] {
             None => f64::NEG_INFINITY,
             Some((slack, at)) if (slack + at).is_nan() => f64::INFINITY,
             Some((slack, at)) => self.t0 + (slack + at - 2.0 * EXPIRY_SLOP - self.odo0[g]) / self.speed[g],
-        };
-        self.queue.push(Reverse(Entry::new(expires, k as u32, self.stamp[k])));
-    }
-
-    /// Every pair queued afresh from what it measured (stale entries dropped).
-    fn rebuild_queue(&mut self) {
-        self.queue.clear();
-        self.stamp.clear();
-        self.stamp.resize(self.pairs.len(), 0);
-        for k in 0..self.pairs.len() {
-            self.requeue(k);
         }
     }
 
-    /// What was taken and not measured goes back: as it was, or, a pair first bounded
+    /// Every pair queued afresh from what it measured.
+    fn rebuild_queue(&mut self) {
+        self.stamp.clear();
+        self.stamp.resize(self.pairs.len(), 0);
+        let mut queue = std::mem::take(&mut self.queue);
+        queue.fill(self.pairs.len(), |k| self.expiry(k));
+        self.queue = queue;
+    }
+
+    /// What was taken and not queued anew goes back: as it was, or, a pair first bounded
     /// this instant, with its boxes' gap.
     fn put_back(&mut self) {
         let taken = std::mem::take(&mut self.taken);
-        for &e in &taken {
-            let k = e.k() as usize;
-            if self.stamp[k] != e.stamp() {
+        for e in &taken {
+            let k = e.k as usize;
+            if self.stamp[k] != e.stamp {
                 continue;
             }
-            if e.expires() == f64::NEG_INFINITY && self.measured[k].is_some() {
+            if e.expires == f64::NEG_INFINITY && self.measured[k].is_some() {
                 self.requeue(k);
             } else {
-                self.queue.push(Reverse(e));
+                self.queue.set(k, e.expires);
             }
         }
         self.taken = taken;
+        self.taken.clear();
     }
 
-    /// The current entry at the queue's front (stale ones dropped on the way).
-    fn front(&mut self) -> Option<Entry> {
-        while let Some(&Reverse(e)) = self.queue.peek() {
-            if self.stamp[e.k() as usize] == e.stamp() {
-                return Some(e);
-            }
-            self.queue.pop();
-        }
-        None
+    /// The least expiry queued, `+∞` when none.
+    fn front(&self) -> f64 {
+        self.queue.least()
     }
 
-    /// Takes off the queue, into `taken`, every current entry that runs out before `limit`
-    /// (a time).
+    /// Takes off the queue, into `taken`, every pair that runs out before `limit` (a
+    /// time).
     fn take_below(&mut self, limit: f64) {
-        while let Some(e) = self.front() {
-            if e.expires().partial_cmp(&limit) != Some(std::cmp::Ordering::Less) {
-                return;
-            }
-            self.queue.pop();
-            self.taken.push(e);
-        }
+        let (taken, stamp) = (&mut self.taken, &self.stamp);
+        self.queue.take_below(limit, |k, expires| taken.push(Taken { k: k as u32, expires, stamp: stamp[k] }));
     }
 }
 
@@ -643,12 +598,10 @@ impl Cell<'_> {
         memory.take_below(f64::MIN);
         let mut front = f64::INFINITY;
         for i in 0..memory.taken.len() {
-            let k = memory.taken[i].k() as usize;
+            let k = memory.taken[i].k as usize;
             front = front.min(self.bound(s, memory, k));
         }
-        if let Some(e) = memory.front() {
-            front = front.min(e.expires() - t);
-        }
+        front = front.min(memory.front() - t);
         if front == f64::INFINITY || front.is_nan() {
             memory.put_back();
             return f64::INFINITY;
@@ -656,7 +609,7 @@ impl Cell<'_> {
         memory.take_below(limit(front));
         let mut least = (f64::INFINITY, usize::MAX);
         for i in 0..memory.taken.len() {
-            let k = memory.taken[i].k() as usize;
+            let k = memory.taken[i].k as usize;
             let b = self.bound(s, memory, k);
             if b < least.0 || (b == least.0 && b < f64::INFINITY && k < least.1) {
                 least = (b, k);
@@ -668,8 +621,7 @@ impl Cell<'_> {
             memory.requeue(least.1);
             memory.take_below(limit(free));
         }
-        let mut candidates: Vec<usize> =
-            memory.taken.iter().map(|e| e.k() as usize).filter(|&k| k != least.1).collect();
+        let mut candidates: Vec<usize> = memory.taken.iter().map(|e| e.k as usize).filter(|&k| k != least.1).collect();
         candidates.sort_unstable();
         for k in candidates {
             if free == 0.0 {
@@ -681,40 +633,6 @@ impl Cell<'_> {
             }
         }
         memory.put_back();
-        if memory.queue.len() > 4 * memory.pairs.len() + 64 {
-            memory.rebuild_queue();
-        }
         free
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// The order the queue kept when it compared fields.
-    fn by_fields(a: (f64, u32, u32), b: (f64, u32, u32)) -> std::cmp::Ordering {
-        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
-    }
-
-    const SPECIAL: [f64; 10] =
-        [0.0, -0.0, 1.0, -1.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, -f64::NAN, f64::MIN_POSITIVE, f64::MAX];
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(4000))]
-        /// Packed entries order as their fields did and give their fields back, for any
-        /// bits (NaNs, zeros, infinities and subnormals among them) and ties on the time.
-        #[test]
-        fn packed_entries_order_as_their_fields(
-            a in any::<u64>(), b in any::<u64>(), special in 0usize..12,
-            k in (any::<u32>(), any::<u32>()), stamp in (any::<u32>(), any::<u32>()),
-        ) {
-            let x = f64::from_bits(a);
-            let y = match special { 10 => x, 11 => f64::from_bits(b), s => SPECIAL[s] };
-            let (ea, eb) = (Entry::new(x, k.0, stamp.0), Entry::new(y, k.1, stamp.1));
-            prop_assert_eq!(ea.cmp(&eb), by_fields((x, k.0, stamp.0), (y, k.1, stamp.1)));
-            prop_assert_eq!((ea.expires().to_bits(), ea.k(), ea.stamp()), (a, k.0, stamp.0));
-        }
     }
 }
