@@ -15,7 +15,9 @@
 //! points q̇ is linear, so its largest magnitude is at an end). The check jumps ahead
 //! by the time that bound needs to use up `d − SEPARATION` and measures again, and
 //! calls a conflict when `d < SEPARATION + MIN_ADVANCE` (so each jump covers at least
-//! `MIN_ADVANCE` of closing distance).
+//! `MIN_ADVANCE` of closing distance). A start is first tried where the start before it
+//! met the other action: where the two are surely nearer than `SEPARATION` (by a
+//! distance from above) no proof can pass, so that instant alone rules the start out.
 //!
 //! A robot outside its actions is at `home` (every action but a configuration target's
 //! ends there), where the planner already checked every other robot's motion against
@@ -146,6 +148,25 @@ fn conflict(world: &World, x: &Run, y: &Run) -> Option<f64> {
     }
 }
 
+/// Whether `x` and `y` surely come nearer than [`SEPARATION`] at `t`, within their
+/// overlap: then [`conflict`] finds a conflict too (no bound it proves from its instants
+/// can cover `t`, where the two are nearer), so a start that met one there is tried
+/// there first. Within [`SURELY`] of `SEPARATION` it says nothing.
+fn surely_near(world: &World, x: &Run, y: &Run, t: f64) -> bool {
+    if !(x.start.max(y.start) <= t && t < x.until.min(y.until)) {
+        return false;
+    }
+    let (qx, qy) = (x.q_at(t), y.q_at(t));
+    world.robots_within(
+        RobotAt { robot: x.robot, q: &qx, held: x.held_at(t) },
+        RobotAt { robot: y.robot, q: &qy, held: y.held_at(t) },
+        SEPARATION - SURELY,
+    )
+}
+
+/// What [`surely_near`] leaves to the rounding of the bounds (metres).
+const SURELY: f64 = 1e-6;
+
 /// Places the actions as the module docs say.
 pub(super) fn place(world: &World, robots: &[RobotTiming], motions: &[Motion]) -> Vec<TimedAction> {
     let relative: Vec<TimedAction> = motions.iter().map(|m| time_action(&robots[m.robot.index()], m, 0.0)).collect();
@@ -188,11 +209,28 @@ pub(super) fn place(world: &World, robots: &[RobotTiming], motions: &[Motion]) -
             };
             (shifted, run)
         };
-        let safe = |run: &Run| {
-            placed
-                .iter()
-                .filter(|(_, other)| other.robot != m.robot)
-                .all(|(_, other)| conflict(world, run, other).is_none())
+        // Per placed action: where the last start tried met it. The next start, a step
+        // later, mostly meets it there again (or a step later), and that instant alone
+        // proves it (`surely_near`); a conflict found from the overlap's start costs tens
+        // of measures (on the 200-can table 103 of the 182 starts found unsafe were proved
+        // so). Either way the same starts are found unsafe.
+        let mut met: Vec<Option<f64>> = vec![None; placed.len()];
+        let mut safe = |run: &Run| {
+            let others = placed.iter().enumerate().filter(|(_, (_, other))| other.robot != m.robot);
+            for (j, (_, other)) in others.clone() {
+                // Where this run now stands as it stood then, and the instant itself.
+                let near = |t: f64| surely_near(world, run, other, t + START_STEP) || surely_near(world, run, other, t);
+                if met[j].is_some_and(near) {
+                    return false;
+                }
+            }
+            for (j, (_, other)) in others {
+                if let Some(t) = conflict(world, run, other) {
+                    met[j] = Some(t);
+                    return false;
+                }
+            }
+            true
         };
         let mut k = 0u32;
         let chosen = loop {
@@ -228,5 +266,82 @@ fn shift(a: &TimedAction, start: f64) -> TimedAction {
         clear: a.clear.map(s),
         end: s(a.end),
         points: a.points.iter().map(|p| TrajPoint { t: s(p.t), q: p.q.clone(), qd: p.qd.clone() }).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::{FsLoader, SourceMap};
+    use crate::resolve::ObjectId;
+    use rand::{RngExt, SeedableRng};
+
+    /// A run of robot `r` from `a` to `b` over `[start, start + 1]`, at rest at both ends,
+    /// at a constant acceleration each half (as the timing stage's profiles are: the speed
+    /// linear between points), carrying `held` throughout.
+    fn run(w: &World, r: RobotId, (a, b): (Vec<f64>, Vec<f64>), start: f64, held: Option<Held>) -> Run {
+        let rest = vec![0.0; a.len()];
+        let mid: Vec<f64> = a.iter().zip(&b).map(|(a, b)| 0.5 * (a + b)).collect();
+        let peak: Vec<f64> = a.iter().zip(&b).map(|(a, b)| 2.0 * (b - a)).collect();
+        let reach = w.joint_reach(r);
+        let radius = held.as_ref().map_or(0.0, |h| w.held_radius(h));
+        Run {
+            robot: r,
+            start,
+            until: start + 1.0,
+            points: vec![
+                TrajPoint { t: start, q: a, qd: rest.clone() },
+                TrajPoint { t: start + 0.5, q: mid, qd: peak },
+                TrajPoint { t: start + 1.0, q: b, qd: rest },
+            ],
+            hold: held.map(|h| (start, start + 1.0, h)),
+            reach: reach.bodies.clone(),
+            reach_held: reach.with_held(radius),
+        }
+    }
+
+    /// Wherever `surely_near` says two runs come nearer than the separation, the walk of
+    /// `conflict` finds a conflict too, no later: the starts it rules out are the ones the
+    /// walk rules out. Two arms over a crate moving between random configurations near
+    /// home, sometimes carrying a lid.
+    #[test]
+    fn an_instant_surely_near_is_a_conflict_the_walk_finds() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/split_lid.dcl");
+        let scn = crate::resolve::resolve(&path, &FsLoader, &mut SourceMap::new()).expect("resolves");
+        let w = crate::world::build(&scn, &crate::world::WorldOptions::default(), &FsLoader).expect("builds");
+        let (r0, r1) = (RobotId(0), RobotId(1));
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let mut draw = |r: RobotId| -> Vec<f64> {
+            let home = w.home(r).to_vec();
+            w.limits(r)
+                .iter()
+                .zip(&home)
+                .map(|((lo, hi), h)| h + 0.4 * (lo + rng.random::<f64>() * (hi - lo) - h))
+                .collect()
+        };
+        let (mut near, mut not_near, mut walked_into) = (0, 0, 0);
+        for i in 0..150 {
+            let (a0, b0, a1, b1) = (draw(r0), draw(r0), draw(r1), draw(r1));
+            let h0 = (i % 3 == 1).then(|| w.held(r0, ObjectId(1), 0, &a0));
+            let h1 = (i % 4 == 2).then(|| w.held(r1, ObjectId(2), 0, &a1));
+            let x = run(&w, r0, (a0, b0), 0.0, h0);
+            let y = run(&w, r1, (a1, b1), f64::from(i % 5) * 0.1 - 0.2, h1);
+            let found = conflict(&w, &x, &y);
+            walked_into += usize::from(found.is_some());
+            for k in 0..24 {
+                let t = -0.2 + 1.4 * f64::from(k) / 24.0;
+                if surely_near(&w, &x, &y, t) {
+                    near += 1;
+                    assert!(found.is_some_and(|c| c <= t), "draw {i}: surely near at {t}, the walk found {found:?}");
+                } else {
+                    not_near += 1;
+                }
+            }
+        }
+        // Not vacuous: instants of both kinds, and walks that find nothing.
+        assert!(
+            near > 50 && not_near > 50 && walked_into < 150,
+            "{near} near, {not_near} not, {walked_into} conflicts"
+        );
     }
 }

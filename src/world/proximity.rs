@@ -118,6 +118,34 @@ impl World {
     /// table's compile), the boxes' gap elsewhere, and 0 when they touch. A pair of
     /// shapes parry3d cannot measure counts by its boxes' gap, which still bounds the
     /// distance from below.
+    /// Whether two robots (with what they carry) surely come nearer than `gap`: two of
+    /// their shapes are, by the distance [`shape_distance`] gives, which is never less than
+    /// the shapes' own (GJK closes in from above; balls in closed form). `false` proves
+    /// nothing. A quick proof that two robots conflict, where [`World::robots_apart`]
+    /// gives a bound from below.
+    pub fn robots_within(&self, a: RobotAt, b: RobotAt, gap: f64) -> bool {
+        APART.with(|cell| {
+            let mut s = cell.borrow_mut();
+            let Apart { posed, held, .. } = &mut *s;
+            for (k, at) in [a, b].into_iter().enumerate() {
+                let flange = self.pose_shapes(at.robot, at.q, at.held, &mut posed[k]);
+                match at.held {
+                    Some(h) => self.pose_held_into(h, &flange, &mut held[k]),
+                    None => held[k].clear(),
+                }
+            }
+            let shapes = |k: usize| {
+                let robot = posed[k].iter().map(|s| (&*s.shape.0, &s.pose, &s.aabb));
+                robot.chain(held[k].iter().map(|p| (&*p.shape.0, &p.pose, &p.aabb)))
+            };
+            shapes(0).any(|(sa, pa, ba)| {
+                shapes(1).any(|(sb, pb, bb)| {
+                    aabb_gap(ba, bb) < gap && shape_distance(pa, sa, pb, sb).is_some_and(|d| d < gap)
+                })
+            })
+        })
+    }
+
     pub fn robots_apart(&self, a: RobotAt, b: RobotAt, near: f64) -> f64 {
         APART.with(|cell| {
             let mut s = cell.borrow_mut();
@@ -417,7 +445,7 @@ mod tests {
     }
 
     #[test]
-    fn robots_apart_is_within_the_tolerance_below_the_least_over_every_pair() {
+    fn robots_apart_is_within_the_tolerance_below_the_least_over_every_pair_and_robots_within_below_a_gap() {
         use crate::diag::{FsLoader, SourceMap};
         use crate::resolve::{ObjectId, RobotId};
         use rand::{RngExt, SeedableRng};
@@ -438,13 +466,21 @@ mod tests {
                 .collect()
         };
         let lid = |r: RobotId, q: &[f64], o: u32| w.held(r, ObjectId(o), 0, q);
-        let (mut touching, mut measured) = (0, 0);
+        let (mut touching, mut measured, mut surely) = (0, 0, 0);
         for i in 0..400 {
             let (q0, q1) = (draw(r0), draw(r1));
             let h0 = (i % 3 == 1).then(|| lid(r0, &q0, 1));
             let h1 = (i % 4 == 2).then(|| lid(r1, &q1, 2));
             let a = RobotAt { robot: r0, q: &q0, held: h0.as_ref() };
             let b = RobotAt { robot: r1, q: &q1, held: h1.as_ref() };
+            // `robots_within` is "every pair's least distance is below the gap" where
+            // boxes nearer than the gap are measured, and the bound from below is below it.
+            for gap in [0.005, 0.02, 0.1] {
+                let within = w.robots_within(a, b, gap);
+                assert_eq!(within, every_pair(&w, a, b, gap) < gap, "draw {i}, gap {gap}");
+                assert!(!within || w.robots_apart(a, b, 0.1) < gap, "draw {i}, gap {gap}");
+                surely += usize::from(within && gap == 0.005);
+            }
             for near in [0.1, 0.02, 1.0] {
                 let (fast, slow) = (w.robots_apart(a, b, near), every_pair(&w, a, b, near));
                 // parry's distance is from above (to a relative 5e-8, but for rounding),
@@ -455,8 +491,12 @@ mod tests {
                 measured += usize::from(slow > 0.0 && slow < near);
             }
         }
-        // Not vacuous: some draws touch, some are measured by distance, the rest by gap.
-        assert!(touching > 10 && measured > 10, "{touching} touching, {measured} measured");
+        // Not vacuous: some draws touch, some are measured by distance, the rest by gap;
+        // some are surely within 5 mm.
+        assert!(
+            touching > 10 && measured > 10 && surely > 10,
+            "{touching} touching, {measured} measured, {surely} within"
+        );
     }
 
     #[test]
