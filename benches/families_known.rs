@@ -12,14 +12,19 @@
 //!
 //! Times are the process's CPU time (on a shared machine the wall clock also counts
 //! waiting for a core); the wall-clock median and 95th percentile are printed beside
-//! them. A schedule that fails verification is counted unsolved and printed; *replanned*
+//! them, and the median CPU time of each stage: loading (resolve, URDFs, world build),
+//! planning (the planner's queries, the AND/OR graph and the schedule, every refinement's)
+//! and verifying (the replay). A schedule that fails verification is counted unsolved and printed; *replanned*
 //! counts the problems whose first schedule failed verification and were planned again at
 //! a finer resolution (as `compile` does), the time of both included.
 
+use std::cell::RefCell;
 use std::path::Path;
 use std::time::Instant;
 
+use declutter::diag::{FsLoader, SourceMap};
 use declutter::schedule::Status;
+use declutter::world::{self, WorldOptions};
 
 #[path = "support/cpu_time.rs"]
 mod cpu_time;
@@ -37,35 +42,69 @@ struct Outcome {
     replanned: bool,
     cpu_s: f64,
     wall_s: f64,
+    /// CPU seconds of the stages (of the median run): loading (resolve and world build),
+    /// planning (the planner, the AND/OR graph and the schedule, every refinement's) and
+    /// verifying.
+    stages: [f64; 3],
 }
 
 /// Load to verified schedule, as `compile` does; the schedule must be solved and verified.
-/// (solved, removals, replanned).
-fn end_to_end(path: &Path) -> (bool, usize, bool) {
-    match families::compile(path) {
-        Ok(p) => (p.schedule.status == Status::Solved, p.schedule.removed.len(), p.refinements > 0),
+/// (solved, removals, replanned), and the CPU time of each stage (see [`Outcome`]).
+fn end_to_end(path: &Path, clock: &cpu_time::CpuTime) -> ((bool, usize, bool), [f64; 3]) {
+    let start = clock.now_ns();
+    let mut sources = SourceMap::new();
+    let world = declutter::resolve::resolve(path, &FsLoader, &mut sources)
+        .map_err(|e| format!("resolve: {e:?}"))
+        .and_then(|scn| world::build(&scn, &WorldOptions::default(), &FsLoader).map_err(|e| format!("world: {e:?}")));
+    let loaded = clock.now_ns();
+    let w = match world {
+        Ok(w) => w,
         Err(e) => {
             eprintln!("{}: {e}", path.display());
+            return ((false, 0, true), [0.0; 3]);
+        }
+    };
+    // The driver says when each phase starts: planning (once per resolution tried) or
+    // verifying.
+    let phases: RefCell<Vec<(bool, u64)>> = RefCell::new(Vec::new());
+    let planned = declutter::driver::plan_verified(&w, &|phase: &str| {
+        phases.borrow_mut().push((phase.starts_with("verifying"), clock.now_ns()))
+    });
+    let end = clock.now_ns();
+    let mut stages = [(loaded - start) as f64 * 1e-9, 0.0, 0.0];
+    let phases = phases.into_inner();
+    for (k, &(verifying, from)) in phases.iter().enumerate() {
+        let to = phases.get(k + 1).map_or(end, |p| p.1);
+        stages[if verifying { 2 } else { 1 }] += (to - from) as f64 * 1e-9;
+    }
+    let outcome = match planned {
+        Ok(p) => (p.schedule.status == Status::Solved, p.schedule.removed.len(), p.refinements > 0),
+        Err(v) => {
+            eprintln!("{}: the schedule failed verification: {v:?}", path.display());
             (false, 0, true)
         }
-    }
+    };
+    (outcome, stages)
 }
+
+/// One run: CPU and wall seconds, (solved, removals, replanned), the stages' CPU seconds.
+type Run = (f64, f64, (bool, usize, bool), [f64; 3]);
 
 /// `repeat` runs of one problem; its median times (the runs plan the same: one seed).
 fn timed(path: &Path, repeat: usize) -> Outcome {
     let clock = cpu_time::CpuTime::process();
-    let mut runs: Vec<(f64, f64, (bool, usize, bool))> = (0..repeat)
+    let mut runs: Vec<Run> = (0..repeat)
         .map(|_| {
             let (c, t) = (clock.now_ns(), Instant::now());
-            let outcome = end_to_end(path);
-            ((clock.now_ns() - c) as f64 * 1e-9, t.elapsed().as_secs_f64(), outcome)
+            let (outcome, stages) = end_to_end(path, &clock);
+            ((clock.now_ns() - c) as f64 * 1e-9, t.elapsed().as_secs_f64(), outcome, stages)
         })
         .collect();
     runs.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (cpu_s, _, (solved, removals, replanned)) = runs[runs.len() / 2];
+    let (cpu_s, _, (solved, removals, replanned), stages) = runs[runs.len() / 2];
     let mut walls: Vec<f64> = runs.iter().map(|r| r.1).collect();
     walls.sort_by(f64::total_cmp);
-    Outcome { solved, removals, replanned, cpu_s, wall_s: walls[walls.len() / 2] }
+    Outcome { solved, removals, replanned, cpu_s, wall_s: walls[walls.len() / 2], stages }
 }
 
 /// The `p`-quantile of sorted `xs` (nearest rank), in milliseconds.
@@ -91,8 +130,10 @@ fn main() {
     let repeat: usize = std::env::var("FAMILY_REPEAT").ok().and_then(|v| v.parse().ok()).unwrap_or(1).max(1);
     // Over every row: (solved, known path, removals, replanned).
     let mut all = (0, 0, 0, 0);
-    println!("| arm | family | solved / known path | removals | replanned | median | p95 | wall median | wall p95 |");
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "| arm | family | solved / known path | removals | replanned | median | p95 | wall median | wall p95 | load | plan | verify |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for arm in ARMS.into_iter().filter(|a| chosen("FAMILY_ARMS", &format!("{a:?}"))) {
         let Some(probe) = probe(arm, &robots, &dir) else {
             eprintln!("{arm:?} does not build on the table");
@@ -117,13 +158,17 @@ fn main() {
                 v
             };
             let (cpu, wall) = (sorted(|o| o.cpu_s), sorted(|o| o.wall_s));
+            let (load, plan, verify) = (sorted(|o| o.stages[0]), sorted(|o| o.stages[1]), sorted(|o| o.stages[2]));
             println!(
-                "| {arm:?} | `{family}` | {solved} / {} | {removals} | {replanned} | {:.1} ms | {:.0} ms | {:.1} ms | {:.0} ms |",
+                "| {arm:?} | `{family}` | {solved} / {} | {removals} | {replanned} | {:.1} ms | {:.0} ms | {:.1} ms | {:.0} ms | {:.2} ms | {:.2} ms | {:.2} ms |",
                 paths.len(),
                 ms(&cpu, 0.5),
                 ms(&cpu, 0.95),
                 ms(&wall, 0.5),
-                ms(&wall, 0.95)
+                ms(&wall, 0.95),
+                ms(&load, 0.5),
+                ms(&plan, 0.5),
+                ms(&verify, 0.5),
             );
         }
     }
