@@ -118,49 +118,12 @@ impl World {
     /// table's compile), the boxes' gap elsewhere, and 0 when they touch. A pair of
     /// shapes parry3d cannot measure counts by its boxes' gap, which still bounds the
     /// distance from below.
-    /// Whether two robots (with what they carry) surely come nearer than `gap`: two of
-    /// their shapes are, by the distance [`shape_distance`] gives, which is never less than
-    /// the shapes' own (GJK closes in from above; balls in closed form). `false` proves
-    /// nothing. A quick proof that two robots conflict, where [`World::robots_apart`]
-    /// gives a bound from below.
-    pub fn robots_within(&self, a: RobotAt, b: RobotAt, gap: f64) -> bool {
-        APART.with(|cell| {
-            let mut s = cell.borrow_mut();
-            let Apart { posed, held, .. } = &mut *s;
-            for (k, at) in [a, b].into_iter().enumerate() {
-                let flange = self.pose_shapes(at.robot, at.q, at.held, &mut posed[k]);
-                match at.held {
-                    Some(h) => self.pose_held_into(h, &flange, &mut held[k]),
-                    None => held[k].clear(),
-                }
-            }
-            let shapes = |k: usize| {
-                let robot = posed[k].iter().map(|s| (&*s.shape.0, &s.pose, &s.aabb));
-                robot.chain(held[k].iter().map(|p| (&*p.shape.0, &p.pose, &p.aabb)))
-            };
-            shapes(0).any(|(sa, pa, ba)| {
-                shapes(1).any(|(sb, pb, bb)| {
-                    aabb_gap(ba, bb) < gap && shape_distance(pa, sa, pb, sb).is_some_and(|d| d < gap)
-                })
-            })
-        })
-    }
-
     pub fn robots_apart(&self, a: RobotAt, b: RobotAt, near: f64) -> f64 {
         APART.with(|cell| {
             let mut s = cell.borrow_mut();
             let Apart { posed, held, near: pairs, rows, cols } = &mut *s;
-            for (k, at) in [a, b].into_iter().enumerate() {
-                let flange = self.pose_shapes(at.robot, at.q, at.held, &mut posed[k]);
-                match at.held {
-                    Some(h) => self.pose_held_into(h, &flange, &mut held[k]),
-                    None => held[k].clear(),
-                }
-            }
-            let shapes = |k: usize| {
-                let robot = posed[k].iter().map(|s| (&*s.shape.0, &s.pose, &s.aabb));
-                robot.chain(held[k].iter().map(|p| (&*p.shape.0, &p.pose, &p.aabb)))
-            };
+            self.pose_both([a, b], posed, held);
+            let shapes = |k: usize| shapes_of(&posed[k], &held[k]);
             // The answer is the least over all pairs of shapes of the pair's value: its
             // boxes' gap when that is at least `near`, else its distance (never below
             // the gap). So a pair whose gap is no less than the best value so far cannot
@@ -235,6 +198,47 @@ impl World {
             best
         })
     }
+
+    /// Whether two robots (with what they carry) surely come nearer than `gap`: two of
+    /// their shapes are, by the distance [`shape_distance`] gives, which is never less than
+    /// the shapes' own (GJK closes in from above; balls in closed form). `false` proves
+    /// nothing. A quick proof that two robots conflict, where [`World::robots_apart`]
+    /// gives a bound from below.
+    pub fn robots_within(&self, a: RobotAt, b: RobotAt, gap: f64) -> bool {
+        APART.with(|cell| {
+            let mut s = cell.borrow_mut();
+            let Apart { posed, held, .. } = &mut *s;
+            self.pose_both([a, b], posed, held);
+            for (sa, pa, ba) in shapes_of(&posed[0], &held[0]) {
+                for (sb, pb, bb) in shapes_of(&posed[1], &held[1]) {
+                    if aabb_gap(ba, bb) < gap && shape_distance(pa, sa, pb, sb).is_some_and(|d| d < gap) {
+                        return true;
+                    }
+                }
+            }
+            false
+        })
+    }
+
+    /// Both robots' shapes and what each carries posed into `posed` and `held`.
+    fn pose_both(&self, robots: [RobotAt; 2], posed: &mut [Vec<PosedShape>; 2], held: &mut [Vec<HeldPart>; 2]) {
+        for (k, at) in robots.into_iter().enumerate() {
+            let flange = self.pose_shapes(at.robot, at.q, at.held, &mut posed[k]);
+            match at.held {
+                Some(h) => self.pose_held_into(h, &flange, &mut held[k]),
+                None => held[k].clear(),
+            }
+        }
+    }
+}
+
+/// One robot's posed shapes and carried parts: shape, pose and box of each.
+fn shapes_of<'a>(
+    posed: &'a [PosedShape],
+    held: &'a [HeldPart],
+) -> impl Iterator<Item = (&'a dyn Shape, &'a PPose, &'a Aabb)> + Clone {
+    let robot = posed.iter().map(|s| (&*s.shape.0, &s.pose, &s.aabb));
+    robot.chain(held.iter().map(|p| (&*p.shape.0, &p.pose, &p.aabb)))
 }
 
 #[cfg(test)]
