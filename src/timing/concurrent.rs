@@ -276,7 +276,6 @@ fn shift(a: &TimedAction, start: f64) -> TimedAction {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::{FsLoader, SourceMap};
     use crate::resolve::ObjectId;
     use rand::{RngExt, SeedableRng};
 
@@ -310,9 +309,7 @@ mod tests {
     /// home, sometimes carrying a lid.
     #[test]
     fn an_instant_surely_near_is_a_conflict_the_walk_finds() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/split_lid.dcl");
-        let scn = crate::resolve::resolve(&path, &FsLoader, &mut SourceMap::new()).expect("resolves");
-        let w = crate::world::build(&scn, &crate::world::WorldOptions::default(), &FsLoader).expect("builds");
+        let w = crate::world::test_arms::example("split_lid");
         let (r0, r1) = (RobotId(0), RobotId(1));
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
         let mut draw = |r: RobotId| -> Vec<f64> {

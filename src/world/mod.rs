@@ -38,7 +38,7 @@ mod shapes;
 mod srdf;
 mod sweep;
 #[cfg(test)]
-mod test_arms;
+pub(crate) mod test_arms;
 mod urdf;
 
 pub use axis_reach::{AxisReach, BodiesFarthest, Farthest, ReachScratch};

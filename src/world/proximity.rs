@@ -450,13 +450,10 @@ mod tests {
 
     #[test]
     fn robots_apart_is_within_the_tolerance_below_the_least_over_every_pair_and_robots_within_below_a_gap() {
-        use crate::diag::{FsLoader, SourceMap};
         use crate::resolve::{ObjectId, RobotId};
         use rand::{RngExt, SeedableRng};
         // Two arms with hands over a crate, each sometimes carrying a lid.
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/split_lid.dcl");
-        let scn = crate::resolve::resolve(&path, &FsLoader, &mut SourceMap::new()).expect("resolves");
-        let w = crate::world::build(&scn, &crate::world::WorldOptions::default(), &FsLoader).expect("builds");
+        let w = crate::world::test_arms::example("split_lid");
         let (r0, r1) = (RobotId(0), RobotId(1));
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
         let mut draw = |r: RobotId| -> Vec<f64> {

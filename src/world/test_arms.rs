@@ -8,7 +8,7 @@ pub(super) fn world_of(path: &std::path::Path) -> World {
     build(&scn, &WorldOptions::default(), &FsLoader).expect("builds")
 }
 
-pub(super) fn example(name: &str) -> World {
+pub(crate) fn example(name: &str) -> World {
     world_of(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(format!("{name}.dcl")))
 }
 
